@@ -1,0 +1,178 @@
+#include "render/compositor/mesh_rasterizer.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "render/compositor/texture_sampler.h"
+
+namespace hd::render {
+
+void MeshRasterizer::prepare(const SyntheticScene& scene, const core::Pinhole& eye,
+                             const core::Pose& T_world_eye, double near_m, double far_m) {
+  eye_ = eye;
+  near_m_ = near_m;
+  far_m_ = far_m;
+  std::size_t total = 0;
+  for (const auto& mesh : scene.meshes) total += mesh.positions_m.size();
+  vertices_.resize(total);  // no allocation once the capacity has been reached
+  mesh_base_.resize(scene.meshes.size());
+  mesh_ok_.resize(scene.meshes.size());
+  const Eigen::Matrix3d Rt = T_world_eye.R.transpose();
+  std::size_t k = 0;
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const auto& mesh = scene.meshes[m];
+    mesh_base_[m] = k;
+    mesh_ok_[m] = mesh.valid() ? 1 : 0;
+    for (std::size_t i = 0; i < mesh.positions_m.size(); ++i, ++k) {
+      const Eigen::Vector3d p = Rt * (mesh.positions_m[i].cast<double>() - T_world_eye.t);
+      const Eigen::Vector2f uv = i < mesh.uvs.size() ? mesh.uvs[i] : Eigen::Vector2f::Zero();
+      vertices_[k] = {p.x(), p.y(), p.z(), uv.x(), uv.y()};
+    }
+  }
+}
+
+void MeshRasterizer::draw_rows(const SyntheticScene& scene, const RasterTarget& target,
+                               int row_begin, int row_end) const {
+  for (std::size_t m = 0; m < scene.meshes.size() && m < mesh_ok_.size(); ++m) {
+    if (!mesh_ok_[m]) continue;
+    const auto& mesh = scene.meshes[m];
+    const EyeVertex* base = vertices_.data() + mesh_base_[m];
+    for (const auto& tri : mesh.triangles) {
+      const EyeVertex v[3] = {base[tri[0]], base[tri[1]], base[tri[2]]};
+      draw_triangle(mesh, v, target, row_begin, row_end);
+    }
+  }
+}
+
+namespace {
+
+using Vertex = std::array<double, 5>;  // x, y, z, s, t in the eye frame
+constexpr int kMaxPoly = 3 + 6;        // a triangle clipped by 6 planes
+constexpr double kSubpixel = 256.0;    // vertices snap to 1/256 px, as GPUs do (llvmpipe too)
+constexpr double kGuardPx = 8192.0;    // keeps fixed-point edge products far inside int64
+
+// Sutherland–Hodgman against one plane a*x + b*y + c*z + d >= 0 (eye frame).
+int clip(const Vertex* in, int n, Vertex* out, double a, double b, double c, double d) {
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    const Vertex& p = in[i];
+    const Vertex& q = in[(i + 1) % n];
+    const double dp = a * p[0] + b * p[1] + c * p[2] + d;
+    const double dq = a * q[0] + b * q[1] + c * q[2] + d;
+    if (dp >= 0) out[count++] = p;
+    if ((dp >= 0) != (dq >= 0)) {
+      const double f = dp / (dp - dq);
+      Vertex r;
+      for (int j = 0; j < 5; ++j) r[j] = p[j] + f * (q[j] - p[j]);
+      out[count++] = r;
+    }
+  }
+  return count;
+}
+
+}  // namespace
+
+void MeshRasterizer::draw_triangle(const TexturedMesh& mesh, const EyeVertex* v,
+                                   const RasterTarget& target, int row_begin, int row_end) const {
+  Vertex pa[kMaxPoly];
+  Vertex pb[kMaxPoly];
+  for (int i = 0; i < 3; ++i) pa[i] = {v[i].x, v[i].y, v[i].z, v[i].s, v[i].t};
+  // Near and far planes, then a guard band around the image (u, v in [-G, size + G]) so that
+  // projected coordinates stay small; the guard band never changes which pixels are covered.
+  const double fx = eye_.fx, fy = eye_.fy, cx = eye_.cx, cy = eye_.cy;
+  const double W = target.width, H = target.height;
+  int n = clip(pa, 3, pb, 0, 0, 1, -near_m_);
+  n = n < 3 ? 0 : clip(pb, n, pa, 0, 0, -1, far_m_);
+  n = n < 3 ? 0 : clip(pa, n, pb, fx, 0, cx + kGuardPx, 0);       // u >= -G
+  n = n < 3 ? 0 : clip(pb, n, pa, -fx, 0, W + kGuardPx - cx, 0);  // u <= W + G
+  n = n < 3 ? 0 : clip(pa, n, pb, 0, fy, cy + kGuardPx, 0);       // v >= -G
+  n = n < 3 ? 0 : clip(pb, n, pa, 0, -fy, H + kGuardPx - cy, 0);  // v <= H + G
+  if (n < 3) return;
+
+  // Screen position (fixed point) plus the attributes linear in screen space: 1/z, s/z, t/z.
+  struct Screen {
+    int64_t X, Y;
+    double iz, sz, tz;
+  };
+  Screen sc[kMaxPoly];
+  for (int i = 0; i < n; ++i) {
+    const double iz = 1.0 / pa[i][2];
+    const double u = fx * pa[i][0] * iz + cx;
+    const double w = fy * pa[i][1] * iz + cy;
+    sc[i] = {std::llround(u * kSubpixel), std::llround(w * kSubpixel), iz, pa[i][3] * iz,
+             pa[i][4] * iz};
+  }
+
+  const auto& tex = mesh.texture;
+  const auto sub = static_cast<int64_t>(kSubpixel);
+  for (int k = 1; k + 1 < n; ++k) {
+    Screen p0 = sc[0], p1 = sc[k], p2 = sc[k + 1];
+    int64_t area = (p1.X - p0.X) * (p2.Y - p0.Y) - (p1.Y - p0.Y) * (p2.X - p0.X);
+    if (area == 0) continue;
+    if (area < 0) {
+      std::swap(p1, p2);
+      area = -area;
+    }
+    const int64_t min_x = std::min({p0.X, p1.X, p2.X}), max_x = std::max({p0.X, p1.X, p2.X});
+    const int64_t min_y = std::min({p0.Y, p1.Y, p2.Y}), max_y = std::max({p0.Y, p1.Y, p2.Y});
+    // Pixel x is a candidate when its centre (x + 0.5) * sub lies in [min_x, max_x].
+    auto first_px = [&](int64_t lo) {
+      return static_cast<int>(std::ceil((static_cast<double>(lo) / kSubpixel) - 0.5));
+    };
+    auto last_px = [&](int64_t hi) {
+      return static_cast<int>(std::floor((static_cast<double>(hi) / kSubpixel) - 0.5));
+    };
+    const int x0 = std::max(first_px(min_x), 0);
+    const int x1 = std::min(last_px(max_x), target.width - 1);
+    const int y0 = std::max(first_px(min_y), row_begin);
+    const int y1 = std::min(last_px(max_y), row_end - 1);
+    if (x0 > x1 || y0 > y1) continue;
+
+    // Edge e runs from a to b; E_e(p) = (b - a) x (p - a) > 0 inside (area > 0, y down). Edge 0
+    // is opposite p0, edge 1 opposite p1, edge 2 opposite p2, so E_e / area are barycentrics.
+    const Screen* ea[3] = {&p1, &p2, &p0};
+    const Screen* eb[3] = {&p2, &p0, &p1};
+    int64_t dX[3], dY[3], tl[3];
+    for (int e = 0; e < 3; ++e) {
+      dX[e] = eb[e]->X - ea[e]->X;
+      dY[e] = eb[e]->Y - ea[e]->Y;
+      // Top-left rule with y down: a left edge goes up (dY < 0), a top edge goes right (dY = 0,
+      // dX > 0). A centre exactly on another edge belongs to the neighbouring triangle.
+      tl[e] = (dY[e] < 0 || (dY[e] == 0 && dX[e] > 0)) ? 1 : 0;
+    }
+    const double inv_area = 1.0 / static_cast<double>(area);
+    const float tex_w = static_cast<float>(tex.width), tex_h = static_cast<float>(tex.height);
+    for (int y = y0; y <= y1; ++y) {
+      const int64_t PY = y * sub + sub / 2;
+      const int64_t PX = x0 * sub + sub / 2;
+      uint8_t* rgba_row = target.rgba + static_cast<long>(y) * target.width * 4;
+      float* depth_row = target.inv_depth + static_cast<long>(y) * target.width;
+      int64_t E[3];
+      for (int e = 0; e < 3; ++e) E[e] = dX[e] * (PY - ea[e]->Y) - dY[e] * (PX - ea[e]->X);
+      for (int x = x0; x <= x1; ++x) {
+        if (E[0] + tl[0] > 0 && E[1] + tl[1] > 0 && E[2] + tl[2] > 0) {
+          const double l0 = static_cast<double>(E[0]) * inv_area;
+          const double l1 = static_cast<double>(E[1]) * inv_area;
+          const double l2 = static_cast<double>(E[2]) * inv_area;
+          const double iz = l0 * p0.iz + l1 * p1.iz + l2 * p2.iz;
+          const float izf = static_cast<float>(iz);
+          if (izf > depth_row[x]) {
+            depth_row[x] = izf;
+            const double s = (l0 * p0.sz + l1 * p1.sz + l2 * p2.sz) / iz;
+            const double t = (l0 * p0.tz + l1 * p1.tz + l2 * p2.tz) / iz;
+            float rgb[3];
+            sample_bilinear(tex.data.data(), tex.width, tex.height, tex.stride_bytes,
+                            static_cast<float>(s) * tex_w, static_cast<float>(t) * tex_h, rgb);
+            uint8_t* o = rgba_row + 4 * x;
+            for (int c = 0; c < 3; ++c) o[c] = static_cast<uint8_t>(rgb[c] + 0.5f);
+            o[3] = 255;
+          }
+        }
+        for (int e = 0; e < 3; ++e) E[e] -= dY[e] * sub;
+      }
+    }
+  }
+}
+
+}  // namespace hd::render
