@@ -413,6 +413,30 @@ def _direct_error(s, X):
     return math.hypot(a[0] - b[0], a[1] - b[1])
 
 
+def _in_w(s, X, tol):
+    """Membership in W by projecting into both cameras (doubles), independent of the plane list."""
+    def to_cam(c, P):
+        R = c["R"]
+        d = [P[i] - c["t"][i] for i in range(3)]
+        return [sum(R[3 * k + i] * d[k] for k in range(3)) for i in range(3)]
+
+    near = s.get("near", ref.DEFAULT_NEAR_M)
+    lo, hi = s["workspace"]["min"], s["workspace"]["max"]
+    if any(X[i] < lo[i] - tol or X[i] > hi[i] + tol for i in range(3)):
+        return False
+    pc = to_cam(s["real"], X)
+    po = to_cam(s["virtual"], X)
+    if pc[2] < near - tol or po[2] < near - tol:
+        return False
+    v = s["virtual"]
+    # u in [0, w] scaled by z so a vertex on the near plane is tested without division
+    x, y, z = po
+    return (v["fx"] * x + v["cx"] * z >= -tol * (v["fx"] + abs(v["cx"]))
+            and (v["width"] - v["cx"]) * z - v["fx"] * x >= -tol * (v["fx"] + abs(v["width"] - v["cx"]))
+            and v["fy"] * y + v["cy"] * z >= -tol * (v["fy"] + abs(v["cy"]))
+            and (v["height"] - v["cy"]) * z - v["fy"] * y >= -tol * (v["fy"] + abs(v["height"] - v["cy"])))
+
+
 def _raster_coverage(s, n):
     """Fraction of an n x n grid of screen samples whose virtual ray meets the video quad
     (in front of the near plane). Independent of the reference's clipping."""
@@ -520,6 +544,33 @@ def self_test():
     corners = [[box["min" if (i >> a) & 1 == 0 else "max"][a] for a in range(3)] for i in range(8)]
     T.near(ev(s)["E_max"], max(_direct_error(s, X) for X in corners), 1e-9, "E_max = max over box corners")
     T.expect(len(ref.w_vertices(ref.parse_scenario(s))) == 8, "W = box has 8 vertices")
+
+    # 7b. W's vertices by a second route: every vertex passes an independent membership test
+    #     (projection into both cameras), and no sampled point of W lies beyond the vertices in
+    #     any direction (a missing vertex would show up as a sample past the hull's support).
+    checked = 0
+    inside_total = 0
+    while checked < 12:
+        s = random_scenario(rng)
+        sc = ref.parse_scenario(s)
+        verts = [[float(c) for c in v] for v in ref.w_vertices(sc)]
+        if not verts:
+            continue
+        checked += 1
+        lo, hi = s["workspace"]["min"], s["workspace"]["max"]
+        size = max(hi[i] - lo[i] for i in range(3))
+        T.expect(all(_in_w(s, v, 1e-9 * (1 + size)) for v in verts), f"W vertex outside W (case {checked})")
+        samples = [[rng.uniform(lo[i], hi[i]) for i in range(3)] for _ in range(3000)]
+        inside = [p for p in samples if _in_w(s, p, 0.0)]
+        inside_total += len(inside)
+        for _ in range(8):
+            n = _norm([rng.gauss(0, 1) for _ in range(3)])
+            support = max(sum(n[i] * v[i] for i in range(3)) for v in verts)
+            T.expect(all(sum(n[i] * p[i] for i in range(3)) <= support + 1e-9 * (1 + size) for p in inside),
+                     f"W sample beyond the vertices' support (case {checked})")
+
+    T.expect(inside_total >= 1000, f"too few samples inside W ({inside_total}) for the support test")
+    print(f"W support test: {inside_total} samples inside W over {checked} scenarios")
 
     # 8. Empty W: E_max = 0.
     r = ev(scenario(ws={"min": [-0.5, -0.5, -1.0], "max": [0.5, 0.5, -0.2]}))
