@@ -1,0 +1,17 @@
+#pragma once
+// The part of the camera frame that must be uploaded for the current virtual view.
+
+#include <optional>
+
+#include "core/pixel_rect.h"
+#include "core/view_setup.h"
+
+namespace hd::core {
+
+/// DESIGN.md 1: the real image rectangle placed on z_c = d, clipped by the virtual frustum's
+/// half-spaces (4 sides + near), bounding box in real image pixels clamped to the image.
+/// nullopt: nothing of the video is visible (no upload, no video), or an invalid setup.
+/// Never intersects frustum edges with the plane (they can be parallel to it or point away).
+std::optional<PixelRect> update_region(const ViewSetup& s);
+
+}  // namespace hd::core
