@@ -1,0 +1,364 @@
+// V4l2Camera end to end against FakeV4l2Device: negotiation, pixels, timestamps, faults,
+// unplug/reopen, stall, MJPEG.
+#include "drivers/v4l2/v4l2_camera.h"
+
+#include <gtest/gtest.h>
+#include <turbojpeg.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <thread>
+
+#include "drivers/clock/monotonic_clock.h"
+#include "fake_v4l2_device.h"
+
+namespace hd::drivers {
+namespace {
+
+using testing::FakeMode;
+using testing::FakeV4l2Config;
+using testing::FakeV4l2Device;
+
+// Waits for a condition the capture thread will bring about; the limit only bounds a hang.
+bool wait_until(const std::function<bool()>& done, int limit_ms = 5000) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(limit_ms);
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return true;
+}
+
+V4l2CameraOptions fast_options(int w = 32, int h = 16) {
+  V4l2CameraOptions o;
+  o.mode = {w, h, 30.0, 0};
+  o.poll_timeout_ms = 10;
+  o.stall_timeout_ns = 100'000'000;
+  o.reopen_period_ns = 20'000'000;
+  return o;
+}
+
+// Independent reference: BT.601 limited range in floating point.
+void expect_pixels_match_pattern(const Frame& f, int bytes_per_line_pad = 0) {
+  (void)bytes_per_line_pad;
+  for (int y = 0; y < f.height; ++y) {
+    for (int x = 0; x < f.width; ++x) {
+      const uint32_t pair = static_cast<uint32_t>(x / 2) * 4;
+      const double Y = testing::fake_yuyv_byte(f.sequence, pair + (x % 2) * 2, y);
+      const double U = testing::fake_yuyv_byte(f.sequence, pair + 1, y);
+      const double V = testing::fake_yuyv_byte(f.sequence, pair + 3, y);
+      const double c = (Y - 16) * 255.0 / 219.0;
+      const double d = (U - 128) * 255.0 / 224.0;
+      const double e = (V - 128) * 255.0 / 224.0;
+      const double ref[3] = {c + 1.402 * e, c - 0.344136 * d - 0.714136 * e, c + 1.772 * d};
+      const uint8_t* px = &f.data[static_cast<std::size_t>(y * f.stride_bytes + x * 4)];
+      for (int ch = 0; ch < 3; ++ch) {
+        const double want = std::clamp(std::round(ref[ch]), 0.0, 255.0);
+        ASSERT_NEAR(px[ch], want, 1.0) << "seq " << f.sequence << " x " << x << " y " << y;
+      }
+      ASSERT_EQ(px[3], 255);
+    }
+  }
+}
+
+TEST(V4l2Camera, NegotiatesTheRequestedModeAndSetsTheRate) {
+  FakeV4l2Config cfg;
+  cfg.modes = {{V4L2_PIX_FMT_YUYV, 32, 16, {{1, 30}, {1, 60}}},
+               {V4L2_PIX_FMT_YUYV, 64, 32, {{1, 30}}},
+               {V4L2_PIX_FMT_MJPEG, 64, 32, {{1, 60}}}};
+  FakeV4l2Device fake(cfg);
+  V4l2CameraOptions opt = fast_options(64, 32);
+  opt.mode.fps = 30;
+  V4l2Camera cam(cfg.path, opt, fake);
+  cam.open();
+  EXPECT_EQ(cam.offered_modes().size(), 3u);
+  EXPECT_EQ(cam.mode().fourcc, V4L2_PIX_FMT_YUYV);
+  EXPECT_EQ(cam.mode().width_px, 64);
+  EXPECT_EQ(fake.last_requested_format().width, 64u);
+  EXPECT_EQ(fake.last_requested_format().pixelformat, uint32_t(V4L2_PIX_FMT_YUYV));
+  ASSERT_TRUE(fake.last_timeperframe());
+  EXPECT_EQ(fake.last_timeperframe()->second, 30u);
+  EXPECT_EQ(cam.frames().write_slot().width, 64);
+  EXPECT_EQ(fake.mapped_buffers(), 4);
+}
+
+TEST(V4l2Camera, AdoptsADriverThatChangesTheSize) {
+  FakeV4l2Config cfg;
+  cfg.force_size = std::make_pair(24u, 8u);
+  cfg.bytesperline_pad = 16;  // and pads its rows
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  cam.open();
+  EXPECT_EQ(cam.mode().width_px, 24);
+  EXPECT_EQ(cam.mode().height_px, 8);
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 3; }));
+  ASSERT_TRUE(cam.frames().fetch());
+  const Frame& f = cam.frames().latest();
+  EXPECT_EQ(f.width, 24);
+  EXPECT_EQ(f.height, 8);
+  expect_pixels_match_pattern(f);
+  cam.stop();
+}
+
+TEST(V4l2Camera, RefusesADriverThatSwitchesToAnUnsupportedFormat) {
+  FakeV4l2Config cfg;
+  cfg.force_fourcc = V4L2_PIX_FMT_NV12;
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  try {
+    cam.open();
+    FAIL() << "open() accepted NV12";
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find(cfg.path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("NV12"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(fake.open_fds(), 0);
+  EXPECT_EQ(fake.mapped_buffers(), 0);
+}
+
+TEST(V4l2Camera, RefusesNodesWithoutCaptureOrStreaming) {
+  for (uint32_t caps : {uint32_t(V4L2_CAP_META_CAPTURE | V4L2_CAP_STREAMING),
+                        uint32_t(V4L2_CAP_VIDEO_CAPTURE | V4L2_CAP_READWRITE)}) {
+    FakeV4l2Config cfg;
+    cfg.device_caps = caps;
+    FakeV4l2Device fake(cfg);
+    V4l2Camera cam(cfg.path, fast_options(), fake);
+    EXPECT_THROW(cam.open(), DeviceError);
+    EXPECT_EQ(fake.open_fds(), 0);
+  }
+  FakeV4l2Config cfg;
+  FakeV4l2Device fake(cfg);
+  V4l2Camera missing("/dev/video-none", fast_options(), fake);
+  try {
+    missing.open();
+    FAIL();
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/video-none"), std::string::npos);
+  }
+}
+
+TEST(V4l2Camera, YuyvFramesArriveWithCorrectPixelsAndMonotonicTimestamps) {
+  FakeV4l2Config cfg;
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  const int64_t t0 = monotonic_now_ns();
+  cam.start();
+  EXPECT_EQ(cam.state(), SourceState::kStreaming);
+  uint64_t checked = 0;
+  uint64_t last_seq = 0;
+  while (checked < 10) {
+    ASSERT_TRUE(wait_until([&] { return cam.frames().fetch(); }));
+    const Frame& f = cam.frames().latest();
+    expect_pixels_match_pattern(f);
+    EXPECT_TRUE(f.device_time_trusted);
+    EXPECT_EQ(f.host_timestamp_ns, f.device_timestamp_ns);
+    EXPECT_GE(f.host_timestamp_ns, t0 - 2'000'000);
+    EXPECT_LE(f.host_timestamp_ns, monotonic_now_ns());
+    if (checked > 0) {
+      EXPECT_GT(f.sequence, last_seq);
+    }
+    last_seq = f.sequence;
+    ++checked;
+  }
+  EXPECT_EQ(cam.dropped_frames(), 0u);
+  cam.stop();
+  EXPECT_EQ(cam.state(), SourceState::kClosed);
+}
+
+TEST(V4l2Camera, NonMonotonicTimestampsAreStampedOnArrival) {
+  FakeV4l2Config cfg;
+  cfg.monotonic_timestamps = false;
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  const int64_t t0 = monotonic_now_ns();
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.frames().fetch(); }));
+  const Frame& f = cam.frames().latest();
+  EXPECT_FALSE(f.device_time_trusted);
+  EXPECT_GE(f.host_timestamp_ns, t0);
+  EXPECT_LE(f.host_timestamp_ns, monotonic_now_ns());
+  EXPECT_EQ(f.device_timestamp_ns, (1000 + int64_t(f.sequence)) * 1'000'000'000);
+  cam.stop();
+}
+
+TEST(V4l2Camera, SequenceGapsCountAsDropped) {
+  FakeV4l2Config cfg;
+  cfg.skip_before = {{5, 3}, {9, 2}};
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 15; }));
+  cam.stop();
+  EXPECT_EQ(cam.sequence_gaps(), 5u);
+  EXPECT_EQ(cam.dropped_frames(), 5u);
+  // Published sequences carry the gap: 15+ frames published span 15+5 device sequence numbers.
+  ASSERT_TRUE(cam.frames().fetch());
+  EXPECT_EQ(cam.frames().latest().sequence + 1, cam.frames().published() + 5);
+}
+
+TEST(V4l2Camera, ErrorFlaggedBuffersAreRequeuedAndCounted) {
+  FakeV4l2Config cfg;
+  cfg.error_at = {2, 3, 7};
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  cam.start();
+  // With only 4 buffers, 20 frames are only possible if the 3 bad buffers went back to the queue.
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 20; }));
+  cam.stop();
+  EXPECT_EQ(cam.error_buffers(), 3u);
+  EXPECT_EQ(cam.dropped_frames(), 3u);
+  EXPECT_EQ(cam.sequence_gaps(), 0u);
+  EXPECT_GE(fake.qbuf_calls(), 4u + 20u + 3u);
+}
+
+TEST(V4l2Camera, SpuriousWakeupsAreHarmless) {
+  FakeV4l2Config cfg;
+  cfg.eagain_before = {1, 4, 6};
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 10; }));
+  cam.stop();
+  EXPECT_EQ(cam.spurious_wakeups(), 3u);
+  EXPECT_EQ(cam.dropped_frames(), 0u);
+  EXPECT_EQ(cam.reconnects(), 0u);
+}
+
+TEST(V4l2Camera, ShortFramesAreDroppedNotShown) {
+  FakeV4l2Config cfg;
+  cfg.truncate_at = {3};
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 8; }));
+  cam.stop();
+  EXPECT_EQ(cam.bad_frames(), 1u);
+  EXPECT_EQ(cam.dropped_frames(), 1u);
+}
+
+TEST(V4l2Camera, UnplugDisconnectsClosesEverythingAndReopensWhenTheNodeReturns) {
+  FakeV4l2Config cfg;
+  cfg.unplug_at = 5;
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.state() == SourceState::kDisconnected; }));
+  EXPECT_EQ(cam.frames().published(), 5u);
+  EXPECT_NE(cam.last_error().find("No such device"), std::string::npos) << cam.last_error();
+  ASSERT_TRUE(wait_until([&] { return fake.open_fds() == 0 && fake.mapped_buffers() == 0; }));
+  // While the node is absent the camera keeps trying (and failing) to reopen.
+  std::this_thread::sleep_for(std::chrono::milliseconds(60));
+  EXPECT_EQ(cam.state(), SourceState::kDisconnected);
+  EXPECT_EQ(cam.reconnects(), 0u);
+
+  fake.replug();
+  ASSERT_TRUE(wait_until([&] { return cam.state() == SourceState::kStreaming; }));
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 10; }));
+  EXPECT_EQ(cam.reconnects(), 1u);
+  ASSERT_TRUE(cam.frames().fetch());
+  // Sequence keeps rising across the reconnect, and no frames are counted lost because of it.
+  EXPECT_GE(cam.frames().latest().sequence, 9u);
+  EXPECT_EQ(cam.dropped_frames(), 0u);
+  cam.stop();
+  EXPECT_EQ(fake.open_fds(), 0);
+  EXPECT_EQ(fake.mapped_buffers(), 0);
+}
+
+TEST(V4l2Camera, StallIsDetectedAndClearsWhenFramesResume) {
+  FakeV4l2Config cfg;
+  cfg.stall_at = 4;
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.state() == SourceState::kStalled; }));
+  EXPECT_EQ(cam.frames().published(), 4u);
+  fake.resume();
+  ASSERT_TRUE(wait_until([&] { return cam.state() == SourceState::kStreaming; }));
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 8; }));
+  EXPECT_EQ(cam.dropped_frames(), 0u);
+  cam.stop();
+}
+
+TEST(V4l2Camera, StopReleasesEverythingAndStartResumes) {
+  FakeV4l2Config cfg;
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 3; }));
+  cam.stop();
+  EXPECT_FALSE(fake.streaming());
+  EXPECT_EQ(fake.open_fds(), 0);
+  EXPECT_EQ(fake.mapped_buffers(), 0);
+  const uint64_t before = cam.frames().published();
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= before + 3; }));
+  cam.stop();
+  EXPECT_EQ(fake.open_fds(), 0);
+}
+
+std::vector<uint8_t> encode_jpeg(int w, int h, int seed) {
+  std::vector<uint8_t> rgba(static_cast<std::size_t>(w) * h * 4);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      uint8_t* p = &rgba[static_cast<std::size_t>((y * w + x) * 4)];
+      p[0] = static_cast<uint8_t>(x * 255 / w);
+      p[1] = static_cast<uint8_t>(y * 255 / h);
+      p[2] = static_cast<uint8_t>(seed * 60);
+      p[3] = 255;
+    }
+  }
+  tjhandle tj = tjInitCompress();
+  unsigned char* out = nullptr;
+  unsigned long len = 0;
+  tjCompress2(tj, rgba.data(), w, w * 4, h, TJPF_RGBA, &out, &len, TJSAMP_422, 95, 0);
+  std::vector<uint8_t> jpeg(out, out + len);
+  tjFree(out);
+  tjDestroy(tj);
+  return jpeg;
+}
+
+std::vector<uint8_t> without_dht(const std::vector<uint8_t>& jpeg) {
+  std::vector<uint8_t> out(jpeg.begin(), jpeg.begin() + 2);
+  std::size_t pos = 2;
+  while (jpeg[pos + 1] != 0xDA) {
+    const std::size_t seg = 2 + ((jpeg[pos + 2] << 8) | jpeg[pos + 3]);
+    if (jpeg[pos + 1] != 0xC4) out.insert(out.end(), jpeg.begin() + pos, jpeg.begin() + pos + seg);
+    pos += seg;
+  }
+  out.insert(out.end(), jpeg.begin() + pos, jpeg.end());
+  return out;
+}
+
+TEST(V4l2Camera, MjpegStreamIsDecodedIncludingFramesWithoutHuffmanTables) {
+  FakeV4l2Config cfg;
+  cfg.modes = {{V4L2_PIX_FMT_MJPEG, 64, 32, {{1, 30}}}};
+  cfg.mjpeg_frames = {encode_jpeg(64, 32, 1), without_dht(encode_jpeg(64, 32, 2))};
+  cfg.truncate_at = {5};
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(64, 32), fake);
+  cam.start();
+  EXPECT_EQ(cam.mode().fourcc, V4L2_PIX_FMT_MJPEG);
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 10; }));
+  cam.stop();
+  EXPECT_EQ(cam.bad_frames(), 1u);  // the truncated one
+  ASSERT_TRUE(cam.frames().fetch());
+  const Frame& f = cam.frames().latest();
+  // Frames alternate payloads: even device sequence -> seed 1, odd -> seed 2 (blue = seed * 60).
+  const int blue = (f.sequence % 2 == 0) ? 60 : 120;
+  double sse = 0;
+  for (int y = 0; y < f.height; ++y) {
+    for (int x = 0; x < f.width; ++x) {
+      const uint8_t* p = &f.data[static_cast<std::size_t>(y * f.stride_bytes + x * 4)];
+      const int want[3] = {x * 255 / f.width, y * 255 / f.height, blue};
+      for (int c = 0; c < 3; ++c) sse += (p[c] - want[c]) * (p[c] - want[c]);
+    }
+  }
+  const double psnr = 10 * std::log10(255.0 * 255.0 / (sse / (f.width * f.height * 3)));
+  EXPECT_GT(psnr, 35.0);
+}
+
+}  // namespace
+}  // namespace hd::drivers
