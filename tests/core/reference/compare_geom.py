@@ -27,6 +27,7 @@ import reference_geom as ref  # noqa: E402
 
 SEED = 20261122
 N_RANDOM = 300
+N_TIE = 60
 
 # ----------------------------------------------------------------------------- small math
 
@@ -140,6 +141,60 @@ def random_scenario(rng):
     s["blend"] = {"m_t": m_t, "eps": 0.0 if rng.random() < 0.2 else rng.uniform(0, m_t)}
     s["pixels"] = [[rng.uniform(0, real["width"]), rng.uniform(0, real["height"])]
                    for _ in range(rng.randint(0, 5))]
+    return s
+
+
+def _axis_rotations():
+    """The 24 rotations that map axes to axes: exact in binary, so planes coincide exactly."""
+    import itertools
+    out = []
+    for perm in itertools.permutations(range(3)):
+        for signs in itertools.product((1, -1), repeat=3):
+            R = [[0] * 3 for _ in range(3)]
+            for i in range(3):
+                R[i][perm[i]] = signs[i]
+            det = (R[0][0] * (R[1][1] * R[2][2] - R[1][2] * R[2][1])
+                   - R[0][1] * (R[1][0] * R[2][2] - R[1][2] * R[2][0])
+                   + R[0][2] * (R[1][0] * R[2][1] - R[1][1] * R[2][0]))
+            if det == 1:
+                out.append(R)
+    return out
+
+
+AXIS_ROTATIONS = _axis_rotations()
+
+
+def tie_scenario(rng):
+    """Hard by construction: every number is dyadic and every rotation axis-aligned, so box faces,
+    near planes, the projection plane, frustum sides and camera centres coincide EXACTLY and often
+    (faces on near planes, cameras on the plane, flat boxes, quads touching the frustum)."""
+    eighth = lambda lo, hi: rng.randint(lo, hi) / 8  # noqa: E731
+
+    def intrinsics():
+        w = rng.choice([256, 512, 1024])
+        h = rng.choice([256, 512, 1024])
+        f = rng.choice([128, 256, 512, 1024, 2048])
+        return {"fx": f, "fy": rng.choice([f, f * 2]), "cx": rng.choice([w / 2, w / 4, 0, w]),
+                "cy": rng.choice([h / 2, h / 4, h]), "width": w, "height": h}
+
+    R_c = rng.choice(AXIS_ROTATIONS)
+    t_c = [eighth(-8, 8) for _ in range(3)]
+    R_o = R_c if rng.random() < 0.5 else rng.choice(AXIS_ROTATIONS)
+    t_o = [t_c[i] + (eighth(-4, 4) if rng.random() < 0.6 else 0.0) for i in range(3)]
+    depth = eighth(0, 16)
+    centre = [t_c[i] + depth * R_c[i][2] for i in range(3)]
+    lo = [centre[i] - eighth(0, 4) for i in range(3)]
+    hi = [lo[i] + eighth(0, 8) for i in range(3)]
+    s = {"real": intrinsics() | {"R": flat(R_c), "t": t_c},
+         "virtual": intrinsics() | {"R": flat(R_o), "t": t_o},
+         "d": rng.choice([0.125, 0.25, 0.5, 1.0, 2.0]), "workspace": {"min": lo, "max": hi}}
+    near = rng.choice([1 / 64, 0.125, 0.25, None])
+    if near is not None:
+        s["near"] = near
+    s["points"] = [[centre[i] + eighth(-4, 4) for i in range(3)] for _ in range(3)]
+    s["blend"] = {"m_t": rng.choice([10, 40, 100]), "eps": rng.choice([0, 5, 20])}
+    s["pixels"] = [[s["real"]["width"] * rng.randint(0, 8) / 8, s["real"]["height"] * rng.randint(0, 8) / 8]
+                   for _ in range(3)]
     return s
 
 
@@ -270,6 +325,7 @@ def hard_scenarios():
 def all_scenarios():
     rng = random.Random(SEED)
     named = [(f"random #{i}", random_scenario(rng)) for i in range(N_RANDOM)]
+    named += [(f"exact-tie #{i}", tie_scenario(rng)) for i in range(N_TIE)]
     return named + hard_scenarios()
 
 
@@ -368,8 +424,9 @@ def run_comparison(binary):
         return 1
     want = [ref.evaluate(ref.parse_scenario(s, f"[{i}]")) for i, s in enumerate(scenarios)]
     fields, bad = compare(named, got, want)
-    n_hard = len(named) - N_RANDOM
-    print(f"{len(named)} scenarios ({N_RANDOM} random, {n_hard} hard), {fields} fields compared, "
+    n_hard = len(named) - N_RANDOM - N_TIE
+    print(f"{len(named)} scenarios ({N_RANDOM} random, {N_TIE} random exact-tie, {n_hard} named hard), "
+          f"{fields} fields compared, "
           f"{len(bad)} mismatches")
     for line in bad:
         print("MISMATCH " + line)
@@ -625,6 +682,34 @@ def self_test():
         p = subprocess.run([sys.executable, here, bad], capture_output=True, text=True)
         T.expect(p.returncode == 2 and p.stdout == "" and "scenario.d" in p.stderr,
                  f"CLI on malformed: rc={p.returncode} out={p.stdout!r} err={p.stderr!r}")
+
+    # 11. The comparator itself can fail: perturbations just outside each tolerance are flagged,
+    #     ones just inside are not, and null never matches a number.
+    base = scenario(points=[[0, 0, 1.0], [0, 0, 0.5]], pixels=[[1200, 900]], blend={"m_t": 60, "eps": 10})
+    named = [("comparator probe", base)]
+    want = ev(base)
+    T.expect(compare(named, [want], [want]) == (9, []), "comparator: identical results agree")
+
+    def perturbed(field, fn):
+        g = json.loads(json.dumps(want))
+        if isinstance(g[field], list):
+            g[field] = [fn(v) for v in g[field]]
+        else:
+            g[field] = fn(g[field])
+        return len(compare(named, [g], [want])[1])
+
+    cases = [("E", lambda v: v * (1 + 3e-6), "E relative"), ("E", lambda v: v + 2e-9, "E floor at 0"),
+             ("E_max", lambda v: v * (1 + 3e-6), "E_max"), ("m", lambda v: v * (1 - 3e-6), "m"),
+             ("coverage", lambda v: v + 2e-7, "coverage"), ("update_region", lambda v: v + 2e-4, "region"),
+             ("w_video", lambda v: v + 2e-9, "w_video"), ("kappa", lambda v: v - 2e-9, "kappa"),
+             ("w2", lambda v: v - 2e-9, "w2"), ("E_max", lambda v: None, "E_max null vs number"),
+             ("update_region", lambda v: None, "region null vs box")]
+    for field, fn, what in cases:
+        T.expect(perturbed(field, fn) > 0, f"comparator misses a {what} perturbation outside tolerance")
+    inside = [("E", lambda v: v * (1 + 5e-7)), ("coverage", lambda v: v + 5e-8),
+              ("update_region", lambda v: v + 5e-5), ("w2", lambda v: v - 5e-10)]
+    for field, fn in inside:
+        T.expect(perturbed(field, fn) == 0, f"comparator flags a {field} perturbation inside tolerance")
 
     print(f"reference self-test: {T.checks} checks, {len(T.failures)} failures")
     for fl in T.failures:
