@@ -1,0 +1,51 @@
+#pragma once
+// The timestamps of everything one displayed frame was made from.
+
+#include <cstdint>
+
+namespace hd::render {
+
+/// One displayed frame. All times are CLOCK_MONOTONIC nanoseconds; 0 means "not present" (e.g. no
+/// video on screen). Derived latencies (what the station reports):
+///   motion-to-photon to swap    = swap_ns - pose_sample_ns
+///   motion-to-photon to display = predicted_display_ns - pose_sample_ns
+///   video age                   = predicted_display_ns - video_ns (how old the video looks)
+struct LatencyRecord {
+  uint64_t frame = 0;
+  int64_t pose_sample_ns = 0;      ///< newest head sample the prediction started from
+  int64_t video_ns = 0;            ///< exposure of the frame shown (or its arrival, see below)
+  bool video_is_exposure = false;  ///< false: video_ns is the host arrival time
+  int64_t texture_update_ns = 0;   ///< video/model data handed to the compositor
+  int64_t render_start_ns = 0;
+  int64_t render_end_ns = 0;
+  int64_t swap_ns = 0;               ///< present() returned
+  int64_t predicted_display_ns = 0;  ///< the time the pose was predicted to
+  bool missed_deadline = false;
+};
+
+enum class LatencyMetric : uint8_t { kMotionToSwap, kMotionToDisplay, kVideoAge, kRender };
+
+/// The metric in nanoseconds; false when the record lacks a stamp it needs.
+inline bool latency_of(const LatencyRecord& r, LatencyMetric m, int64_t& out_ns) {
+  switch (m) {
+    case LatencyMetric::kMotionToSwap:
+      if (r.pose_sample_ns == 0 || r.swap_ns == 0) return false;
+      out_ns = r.swap_ns - r.pose_sample_ns;
+      return true;
+    case LatencyMetric::kMotionToDisplay:
+      if (r.pose_sample_ns == 0 || r.predicted_display_ns == 0) return false;
+      out_ns = r.predicted_display_ns - r.pose_sample_ns;
+      return true;
+    case LatencyMetric::kVideoAge:
+      if (r.video_ns == 0 || r.predicted_display_ns == 0) return false;
+      out_ns = r.predicted_display_ns - r.video_ns;
+      return true;
+    case LatencyMetric::kRender:
+      if (r.render_start_ns == 0 || r.render_end_ns == 0) return false;
+      out_ns = r.render_end_ns - r.render_start_ns;
+      return true;
+  }
+  return false;
+}
+
+}  // namespace hd::render
