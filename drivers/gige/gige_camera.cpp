@@ -1,0 +1,348 @@
+#include "drivers/gige/gige_camera.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/convert/bayer_to_rgba.h"
+#include "drivers/convert/mono8_to_rgba.h"
+#include "drivers/convert/rgb8_to_rgba.h"
+#include "drivers/gige/gige_prober.h"
+#include "drivers/gige/gvcp_liveness_probe.h"
+
+namespace hd::drivers {
+
+namespace {
+
+constexpr int64_t kPopTimeoutUs = 20'000;  // bounds how late stop() and stall checks react
+
+bool arv_format_for(PixelFormat f, ArvPixelFormat& out) {
+  switch (f) {
+    case PixelFormat::kMono8:
+      out = ARV_PIXEL_FORMAT_MONO_8;
+      return true;
+    case PixelFormat::kRgb8:
+      out = ARV_PIXEL_FORMAT_RGB_8_PACKED;
+      return true;
+    case PixelFormat::kBayerRggb8:
+      out = ARV_PIXEL_FORMAT_BAYER_RG_8;
+      return true;
+    case PixelFormat::kBayerGrbg8:
+      out = ARV_PIXEL_FORMAT_BAYER_GR_8;
+      return true;
+    case PixelFormat::kBayerGbrg8:
+      out = ARV_PIXEL_FORMAT_BAYER_GB_8;
+      return true;
+    case PixelFormat::kBayerBggr8:
+      out = ARV_PIXEL_FORMAT_BAYER_BG_8;
+      return true;
+    default:
+      return false;
+  }
+}
+
+int64_t clock_ns(clockid_t id) {
+  timespec ts{};
+  clock_gettime(id, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+std::string ipv4_of(ArvCamera* camera) {
+  ArvDevice* device = arv_camera_get_device(camera);
+  if (device == nullptr || !ARV_IS_GV_DEVICE(device)) return {};
+  GSocketAddress* socket_address = arv_gv_device_get_device_address(ARV_GV_DEVICE(device));
+  if (socket_address == nullptr || !G_IS_INET_SOCKET_ADDRESS(socket_address)) return {};
+  GInetAddress* inet =
+      g_inet_socket_address_get_address(G_INET_SOCKET_ADDRESS(socket_address));  // transfer none
+  gchar* text = g_inet_address_to_string(inet);
+  std::string out = text != nullptr ? text : "";
+  g_free(text);
+  return out;
+}
+
+}  // namespace
+
+GigeCamera::GigeCamera(GigeConfig config)
+    : config_(std::move(config)),
+      mailbox_(std::make_unique<Mailbox<Frame>>()),
+      // Aravis reports device timestamps already scaled to ns on a 64-bit counter.
+      clock_mapper_(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000}) {}
+
+GigeCamera::~GigeCamera() {
+  stop();
+  close();
+}
+
+void GigeCamera::open() {
+  if (camera_) return;
+  const std::string& id = config_.device_id;
+  if (!arv_format_for(config_.pixel_format, arv_format_)) {
+    throw DeviceError("GigE camera '" + id + "': pixel format " +
+                      std::string(to_string(config_.pixel_format)) +
+                      " is not supported (expected Mono8, RGB8, BayerRG8/GR8/GB8/BG8)");
+  }
+  if (config_.buffer_count < 2) {
+    throw DeviceError("GigE camera '" + id + "': buffer_count must be >= 2, got " +
+                      std::to_string(config_.buffer_count));
+  }
+  GErrorHolder error;
+  camera_.reset(arv_camera_new(id.c_str(), error.out()));
+  if (!camera_ || error) {
+    const std::string why = error ? error.message() : "no such device";
+    camera_.reset();
+    std::string found;
+    for (const DeviceInfo& d : probe_gige_devices()) found += (found.empty() ? "" : ", ") + d.id;
+    throw DeviceError("GigE camera '" + id + "' could not be opened: " + why +
+                      "; GigE devices found: " + (found.empty() ? "none" : found));
+  }
+  if (!arv_camera_is_gv_device(camera_.get())) {
+    camera_.reset();
+    throw DeviceError("device '" + id + "' is not a GigE Vision camera");
+  }
+  const auto fail = [&](std::string_view what) {
+    std::string msg = "GigE camera '" + id + "': " + std::string(what) + ": " + error.message();
+    camera_.reset();
+    throw DeviceError(msg);
+  };
+  ArvCamera* cam = camera_.get();
+  address_ = ipv4_of(cam);
+
+  arv_camera_set_pixel_format(cam, arv_format_, error.out());
+  if (error) fail("setting PixelFormat " + std::string(to_string(config_.pixel_format)));
+  if (config_.roi.width_px > 0 && config_.roi.height_px > 0) {
+    arv_camera_set_region(cam, config_.roi.x_px, config_.roi.y_px, config_.roi.width_px,
+                          config_.roi.height_px, error.out());
+    if (error) fail("setting region of interest");
+  }
+  gint x = 0, y = 0, w = 0, h = 0;
+  arv_camera_get_region(cam, &x, &y, &w, &h, error.out());
+  if (error) fail("reading region of interest");
+  if (w <= 0 || h <= 0 || w > 65535 || h > 65535) {
+    error.clear();
+    camera_.reset();
+    throw DeviceError("GigE camera '" + id + "' reports an invalid image size " +
+                      std::to_string(w) + "x" + std::to_string(h));
+  }
+  if ((config_.pixel_format != PixelFormat::kMono8 && config_.pixel_format != PixelFormat::kRgb8) &&
+      (w < 2 || h < 2)) {
+    camera_.reset();
+    throw DeviceError("GigE camera '" + id + "': a Bayer image needs at least 2x2 pixels");
+  }
+  width_px_ = w;
+  height_px_ = h;
+  if (config_.frame_rate_hz > 0.0) {
+    arv_camera_set_frame_rate(cam, config_.frame_rate_hz, error.out());
+    if (error) fail("setting frame rate " + std::to_string(config_.frame_rate_hz) + " Hz");
+  }
+  frame_rate_hz_ = arv_camera_get_frame_rate(cam, error.out());
+  if (error) fail("reading frame rate");
+
+  if (config_.packet_size_bytes > 0) {
+    arv_camera_gv_set_packet_size(cam, config_.packet_size_bytes, error.out());
+    if (error) fail("setting packet size " + std::to_string(config_.packet_size_bytes));
+  } else {
+    arv_camera_gv_auto_packet_size(cam, error.out());
+    if (error) fail("negotiating packet size");
+  }
+  packet_size_bytes_ = static_cast<int>(arv_camera_gv_get_packet_size(cam, error.out()));
+  if (error) fail("reading packet size");
+  payload_bytes_ = arv_camera_get_payload(cam, error.out());
+  if (error) fail("reading payload size");
+  const std::size_t needed = static_cast<std::size_t>(w) * static_cast<std::size_t>(h) *
+                             static_cast<std::size_t>(bytes_per_pixel(config_.pixel_format));
+  if (payload_bytes_ < needed) {
+    camera_.reset();
+    throw DeviceError("GigE camera '" + id + "': payload " + std::to_string(payload_bytes_) +
+                      " bytes is smaller than a " + std::to_string(w) + "x" + std::to_string(h) +
+                      " " + std::string(to_string(config_.pixel_format)) + " image");
+  }
+
+  const bool loopback = address_.rfind("127.", 0) == 0;
+  arv_camera_gv_set_stream_options(cam, (!config_.allow_packet_socket || loopback)
+                                            ? ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED
+                                            : ARV_GV_STREAM_OPTION_NONE);
+  stream_.reset(arv_camera_create_stream(cam, nullptr, nullptr, error.out()));
+  if (!stream_ || error) fail("creating the stream");
+  const double rate = frame_rate_hz_ > 0.0 ? frame_rate_hz_ : 60.0;
+  const auto frames_100ms = static_cast<std::size_t>(std::ceil(rate * 0.1));
+  socket_buffer_bytes_ =
+      config_.socket_buffer_bytes > 0
+          ? config_.socket_buffer_bytes
+          : static_cast<int>(std::min<std::size_t>(
+                payload_bytes_ * std::max<std::size_t>(4, frames_100ms), 64u << 20));
+  g_object_set(stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED,
+               "socket-buffer-size", socket_buffer_bytes_, "packet-resend",
+               ARV_GV_STREAM_PACKET_RESEND_ALWAYS, nullptr);
+  for (int i = 0; i < config_.buffer_count; ++i) {
+    arv_stream_push_buffer(stream_.get(), arv_buffer_new(payload_bytes_, nullptr));
+  }
+
+  Frame prototype;
+  prototype.allocate_rgba(w, h);
+  mailbox_ = std::make_unique<Mailbox<Frame>>(prototype);
+
+  control_lost_.store(false);
+  control_lost_handler_ = g_signal_connect(arv_camera_get_device(cam), "control-lost",
+                                           G_CALLBACK(&GigeCamera::on_control_lost), this);
+  state_.store(SourceState::kClosed, std::memory_order_release);
+}
+
+void GigeCamera::on_control_lost(ArvDevice*, gpointer self) {
+  // Called on Aravis's heartbeat thread: only flag it, the stream thread acts.
+  static_cast<GigeCamera*>(self)->control_lost_.store(true, std::memory_order_release);
+}
+
+void GigeCamera::start() {
+  if (!camera_) open();
+  if (running_.load()) return;
+  GErrorHolder error;
+  unwrapper_.reset();
+  arv_camera_start_acquisition(camera_.get(), error.out());
+  if (error) {
+    throw DeviceError("GigE camera '" + config_.device_id +
+                      "': starting acquisition: " + error.message());
+  }
+  last_frame_ns_ = monotonic_now_ns();
+  last_probe_ns_ = 0;
+  state_.store(SourceState::kStreaming, std::memory_order_release);
+  running_.store(true, std::memory_order_release);
+  thread_ = std::thread([this] { stream_loop(); });
+}
+
+void GigeCamera::stop() {
+  if (!running_.exchange(false)) return;
+  if (thread_.joinable()) thread_.join();
+  if (camera_ && state() != SourceState::kDisconnected) {
+    GErrorHolder error;  // a camera that went away cannot be told to stop; nothing to do then
+    arv_camera_stop_acquisition(camera_.get(), error.out());
+  }
+  if (state() != SourceState::kDisconnected) state_.store(SourceState::kClosed);
+}
+
+void GigeCamera::close() {
+  if (camera_ && control_lost_handler_ != 0) {
+    g_signal_handler_disconnect(arv_camera_get_device(camera_.get()), control_lost_handler_);
+    control_lost_handler_ = 0;
+  }
+  stream_.reset();  // releases the buffer pool with the stream
+  camera_.reset();
+}
+
+uint64_t GigeCamera::dropped_frames() const {
+  return bad_buffers_.load(std::memory_order_relaxed) + id_gaps_.load(std::memory_order_relaxed);
+}
+
+GigeStats GigeCamera::stats() const {
+  GigeStats s;
+  s.frames_published = frames_published_.load(std::memory_order_relaxed);
+  s.bad_buffers = bad_buffers_.load(std::memory_order_relaxed);
+  s.id_gaps = id_gaps_.load(std::memory_order_relaxed);
+  s.late_or_duplicate = late_.load(std::memory_order_relaxed);
+  s.malformed = malformed_.load(std::memory_order_relaxed);
+  s.liveness_probes = probes_.load(std::memory_order_relaxed);
+  return s;
+}
+
+void GigeCamera::stream_loop() {
+  GvcpLivenessProbe probe(address_);
+  while (running_.load(std::memory_order_acquire)) {
+    ArvBuffer* buffer = arv_stream_timeout_pop_buffer(stream_.get(), kPopTimeoutUs);
+    const int64_t now_ns = monotonic_now_ns();
+    if (buffer != nullptr) {
+      handle_buffer(buffer, now_ns);
+      arv_stream_push_buffer(stream_.get(), buffer);  // back into the pool at once
+    }
+    if (state() == SourceState::kDisconnected) continue;  // stays so until stop()
+    if (control_lost_.load(std::memory_order_acquire)) {
+      state_.store(SourceState::kDisconnected, std::memory_order_release);
+      continue;
+    }
+    if (now_ns - last_frame_ns_ <= config_.stall_timeout_ns) continue;
+    state_.store(SourceState::kStalled, std::memory_order_release);
+    // Probe at most once per stall timeout: a live camera that merely paused stays "stalled".
+    if (now_ns - last_probe_ns_ < config_.stall_timeout_ns) continue;
+    last_probe_ns_ = now_ns;
+    probes_.fetch_add(1, std::memory_order_relaxed);
+    if (address_.empty()) continue;
+    const auto answer = probe.ping(config_.liveness_timeout_ns);
+    if (answer == GvcpLivenessProbe::Answer::kRefused ||
+        answer == GvcpLivenessProbe::Answer::kTimeout) {
+      state_.store(SourceState::kDisconnected, std::memory_order_release);
+    }
+  }
+}
+
+void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
+  if (arv_buffer_get_status(buffer) != ARV_BUFFER_STATUS_SUCCESS) {
+    bad_buffers_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  if (arv_buffer_get_payload_type(buffer) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE ||
+      arv_buffer_get_image_width(buffer) != width_px_ ||
+      arv_buffer_get_image_height(buffer) != height_px_ ||
+      arv_buffer_get_image_pixel_format(buffer) != arv_format_) {
+    malformed_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  std::size_t size = 0;
+  const auto* data = static_cast<const uint8_t*>(arv_buffer_get_image_data(buffer, &size));
+  if (data == nullptr) {
+    malformed_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  const auto id = unwrapper_.update(arv_buffer_get_frame_id(buffer));
+  if (id.verdict != FrameIdUnwrapper::Verdict::kNext) {
+    (id.verdict == FrameIdUnwrapper::Verdict::kInvalid ? malformed_ : late_)
+        .fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  id_gaps_.fetch_add(id.gap, std::memory_order_relaxed);
+
+  // Aravis stamps arrival on the realtime clock; move it onto CLOCK_MONOTONIC.
+  const uint64_t system_ns = arv_buffer_get_system_timestamp(buffer);
+  int64_t arrival_ns = popped_ns;
+  if (system_ns != 0) {
+    const int64_t realtime_minus_mono = clock_ns(CLOCK_REALTIME) - monotonic_now_ns();
+    arrival_ns = std::min(popped_ns, static_cast<int64_t>(system_ns) - realtime_minus_mono);
+  }
+
+  Frame& f = mailbox_->write_slot();
+  const int w = width_px_, h = height_px_;
+  const int src_stride = w * bytes_per_pixel(config_.pixel_format);
+  bool ok = false;
+  switch (config_.pixel_format) {
+    case PixelFormat::kMono8:
+      ok =
+          mono8_to_rgba(data, size, w, h, src_stride, f.data.data(), f.data.size(), f.stride_bytes);
+      break;
+    case PixelFormat::kRgb8:
+      ok = rgb8_to_rgba(data, size, w, h, src_stride, f.data.data(), f.data.size(), f.stride_bytes);
+      break;
+    default:
+      ok = bayer_to_rgba(config_.pixel_format, data, size, w, h, src_stride, f.data.data(),
+                         f.data.size(), f.stride_bytes);
+      break;
+  }
+  if (!ok) {
+    malformed_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  const uint64_t device_ns = arv_buffer_get_timestamp(buffer);
+  f.sequence = id.sequence;
+  f.device_time_trusted = device_ns != 0;
+  f.device_timestamp_ns = static_cast<int64_t>(device_ns);
+  f.host_timestamp_ns =
+      f.device_time_trusted ? clock_mapper_.map(device_ns, arrival_ns) : arrival_ns;
+  // State first: a consumer that sees the new frame must also see the stream as live.
+  last_frame_ns_ = popped_ns;
+  if (state() == SourceState::kStalled) state_.store(SourceState::kStreaming);
+  mailbox_->publish();
+  const int64_t published_ns = monotonic_now_ns();
+  frames_published_.fetch_add(1, std::memory_order_relaxed);
+  timings_.push(GigeHandoffTiming{id.sequence, arrival_ns, popped_ns, published_ns});
+}
+
+}  // namespace hd::drivers

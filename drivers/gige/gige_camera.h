@@ -1,0 +1,120 @@
+#pragma once
+// A GigE Vision camera through Aravis 0.8, as a CameraSource.
+
+#include <arv.h>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "drivers/camera_source.h"
+#include "drivers/clock/device_clock_mapper.h"
+#include "drivers/gige/frame_id_unwrapper.h"
+#include "drivers/gige/gige_config.h"
+#include "drivers/gige/gobject_ptr.h"
+#include "drivers/spsc_ring.h"
+
+namespace hd::drivers {
+
+/// When one frame crossed each stage, for latency measurement (CLOCK_MONOTONIC ns).
+struct GigeHandoffTiming {
+  uint64_t sequence = 0;
+  int64_t arrival_ns = 0;    ///< Aravis's stream thread completed the frame (buffer system time)
+  int64_t popped_ns = 0;     ///< our stream thread took it from Aravis's output queue
+  int64_t published_ns = 0;  ///< converted and published into the mailbox
+};
+
+/// Counters since start(); read from any thread.
+struct GigeStats {
+  uint64_t frames_published = 0;
+  uint64_t bad_buffers = 0;        ///< ARV_BUFFER_STATUS != SUCCESS (missing packets, timeout...)
+  uint64_t id_gaps = 0;            ///< frames missing from the block-id sequence
+  uint64_t late_or_duplicate = 0;  ///< ids at or before the newest one, skipped
+  uint64_t malformed = 0;          ///< wrong size / format / payload type, skipped
+  uint64_t liveness_probes = 0;
+};
+
+/// Streams one GigE camera: open() negotiates region, pixel format, frame rate and packet size
+/// and sizes the mailbox; start() starts acquisition and a thread that pops Aravis buffers,
+/// converts them to RGBA8 into the mailbox and hands the buffer straight back to Aravis.
+///
+/// Time: the arrival stamp is the buffer's system timestamp (taken by Aravis when the last
+/// packet landed) moved onto CLOCK_MONOTONIC; the device timestamp is mapped onto it with a
+/// DeviceClockMapper, and the frame's host time is that mapped exposure time.
+///
+/// Liveness: no frame for `stall_timeout_ns` makes the state kStalled and sends a GVCP probe;
+/// a refused or unanswered probe, or Aravis's "control-lost" signal, makes it kDisconnected.
+class GigeCamera final : public CameraSource {
+ public:
+  explicit GigeCamera(GigeConfig config);
+  ~GigeCamera() override;
+  GigeCamera(const GigeCamera&) = delete;
+  GigeCamera& operator=(const GigeCamera&) = delete;
+
+  std::string id() const override { return config_.device_id; }
+  void open() override;
+  void start() override;
+  void stop() override;
+  SourceState state() const override { return state_.load(std::memory_order_acquire); }
+  uint64_t dropped_frames() const override;
+  /// Valid after open(); open() replaces it with one sized for the negotiated image.
+  Mailbox<Frame>& frames() override { return *mailbox_; }
+
+  GigeStats stats() const;
+  /// Oldest unread hand-off timing (bounded queue; overflow is counted and dropped).
+  bool pop_timing(GigeHandoffTiming& out) { return timings_.pop(out); }
+
+  // What open() negotiated (the camera's answers, read back).
+  int width_px() const { return width_px_; }
+  int height_px() const { return height_px_; }
+  double frame_rate_hz() const { return frame_rate_hz_; }
+  int packet_size_bytes() const { return packet_size_bytes_; }
+  int socket_buffer_bytes() const { return socket_buffer_bytes_; }
+  std::size_t payload_bytes() const { return payload_bytes_; }
+  const std::string& address() const { return address_; }
+
+ private:
+  void close();
+  void stream_loop();
+  void handle_buffer(ArvBuffer* buffer, int64_t popped_ns);
+  void check_liveness(int64_t now_ns);
+  static void on_control_lost(ArvDevice* device, gpointer self);
+
+  GigeConfig config_;
+  GObjectPtr<ArvCamera> camera_;
+  GObjectPtr<ArvStream> stream_;
+  gulong control_lost_handler_ = 0;
+  std::unique_ptr<Mailbox<Frame>> mailbox_;
+  std::string address_;
+
+  int width_px_ = 0;
+  int height_px_ = 0;
+  double frame_rate_hz_ = 0.0;
+  int packet_size_bytes_ = 0;
+  int socket_buffer_bytes_ = 0;
+  std::size_t payload_bytes_ = 0;
+  ArvPixelFormat arv_format_ = 0;
+
+  std::thread thread_;
+  std::atomic<bool> running_{false};
+  std::atomic<bool> control_lost_{false};
+  std::atomic<SourceState> state_{SourceState::kClosed};
+
+  // Owned by the stream thread while it runs.
+  FrameIdUnwrapper unwrapper_;
+  DeviceClockMapper clock_mapper_;
+  int64_t last_frame_ns_ = 0;
+  int64_t last_probe_ns_ = 0;
+
+  std::atomic<uint64_t> frames_published_{0};
+  std::atomic<uint64_t> bad_buffers_{0};
+  std::atomic<uint64_t> id_gaps_{0};
+  std::atomic<uint64_t> late_{0};
+  std::atomic<uint64_t> malformed_{0};
+  std::atomic<uint64_t> probes_{0};
+  SpscRing<GigeHandoffTiming, 1024> timings_;
+};
+
+}  // namespace hd::drivers

@@ -1,0 +1,37 @@
+#pragma once
+// What the station asks of one GigE Vision camera.
+
+#include <cstdint>
+#include <string>
+
+#include "drivers/frame.h"
+
+namespace hd::drivers {
+
+/// Sensor region in device pixels; width 0 keeps the camera's current region.
+struct GigeRoi {
+  int x_px = 0;
+  int y_px = 0;
+  int width_px = 0;
+  int height_px = 0;
+};
+
+struct GigeConfig {
+  std::string
+      device_id;  ///< Aravis id ("Aravis-Fake-SERIAL", "<vendor>-<serial>") or an IP address
+  PixelFormat pixel_format = PixelFormat::kMono8;  ///< Mono8, RGB8 or one of the 8-bit Bayers
+  GigeRoi roi;
+  double frame_rate_hz = 30.0;  ///< 0 keeps the camera's rate
+  int packet_size_bytes = 0;    ///< 0: negotiate the largest the path carries
+  int buffer_count = 8;         ///< Aravis buffers allocated at start and recycled
+  /// Kernel receive buffer for the stream socket; 0 sizes it for 100 ms of frames (at least 4
+  /// frames), so a scheduling hiccup of the stream thread does not drop packets at 60 fps.
+  int socket_buffer_bytes = 0;
+  int64_t stall_timeout_ns = 250'000'000;     ///< no frame for this long: stalled, then probed
+  int64_t liveness_timeout_ns = 250'000'000;  ///< one GVCP probe's deadline
+  /// Use Aravis's packet socket (a raw AF_PACKET receiver) when the process may. It never sees
+  /// loopback traffic, so it is switched off for 127.0.0.0/8 regardless.
+  bool allow_packet_socket = true;
+};
+
+}  // namespace hd::drivers
