@@ -1,0 +1,247 @@
+#include "render/compositor/cpu_compositor.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/blend_weights.h"
+
+namespace hd::render {
+
+namespace {
+
+const SyntheticScene& empty_scene() {
+  static const SyntheticScene scene;
+  return scene;
+}
+
+bool finite_positive(double x) {
+  return std::isfinite(x) && x > 0.0;
+}
+
+bool request_ok(const CompositeRequest& r, const ImageRgba8& out) {
+  const Viewport& vp = r.viewport;
+  if (vp.x < 0 || vp.y < 0 || vp.width <= 0 || vp.height <= 0) return false;
+  if (vp.x + vp.width > out.width || vp.y + vp.height > out.height) return false;
+  if (out.stride_bytes < 4 * out.width) return false;
+  if (out.data.size() <
+      static_cast<std::size_t>(out.stride_bytes) * static_cast<std::size_t>(out.height)) {
+    return false;
+  }
+  if (r.eye.width != vp.width || r.eye.height != vp.height || !r.eye.valid()) return false;
+  if (!r.T_world_eye.valid()) return false;
+  return finite_positive(r.near_m) && std::isfinite(r.far_m) && r.far_m > r.near_m;
+}
+
+bool video_ok(const CompositeRequest& r) {
+  const drivers::Frame* f = r.video;
+  if (f->format != drivers::PixelFormat::kRgba8 || f->width <= 0 || f->height <= 0) return false;
+  if (f->width != r.real.width || f->height != r.real.height) return false;
+  if (f->stride_bytes < 4 * f->width) return false;
+  if (f->data.size() <
+      static_cast<std::size_t>(f->stride_bytes) * static_cast<std::size_t>(f->height)) {
+    return false;
+  }
+  return r.real.valid() && r.T_world_real.valid() && finite_positive(r.d_m);
+}
+
+}  // namespace
+
+CpuCompositor::CpuCompositor(int threads) : threads_(std::clamp(threads, 1, 2)) {
+  if (threads_ == 2) worker_ = std::thread([this] { worker_loop(); });
+}
+
+CpuCompositor::~CpuCompositor() {
+  if (worker_.joinable()) {
+    quit_.store(true);
+    job_.fetch_add(1);
+    job_.notify_one();
+    worker_.join();
+  }
+}
+
+void CpuCompositor::worker_loop() {
+  uint64_t seen = 0;
+  for (;;) {
+    job_.wait(seen);
+    seen = job_.load();
+    if (quit_.load()) return;
+    draw_band(worker_row_begin_, worker_row_end_);
+    done_.store(seen);
+    done_.notify_one();
+  }
+}
+
+void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
+  if (!request_ok(req, out)) {
+    ++stats_.requests_rejected;
+    return;
+  }
+  const std::size_t n = static_cast<std::size_t>(req.viewport.width) * req.viewport.height;
+  if (inv_depth_.size() != n) {  // first frame, or a new viewport size
+    inv_depth_.assign(n, 0.0f);
+    synth_rgba_.assign(4 * n, 0);
+  }
+  req_ = &req;
+  out_ = &out;
+  scene_ = req.scene ? req.scene : &empty_scene();
+  video_on_ = false;
+  if (req.video != nullptr && req.has_region) {
+    if (video_ok(req)) {
+      warp_ = VideoWarp::make(req.eye, req.T_world_eye, req.real, req.T_world_real, req.d_m);
+      video_on_ = warp_.usable;
+    } else {
+      ++stats_.video_frames_rejected;
+    }
+  }
+  rasterizer_.prepare(*scene_, req.eye, req.T_world_eye, req.near_m, req.far_m);
+
+  const int h = req.viewport.height;
+  if (threads_ == 2 && h >= 2) {
+    worker_row_begin_ = h / 2;
+    worker_row_end_ = h;
+    const uint64_t my_job = job_.fetch_add(1) + 1;
+    job_.notify_one();
+    draw_band(0, h / 2);
+    for (uint64_t d = done_.load(); d != my_job; d = done_.load()) done_.wait(d);
+  } else {
+    draw_band(0, h);
+  }
+  ++stats_.frames_drawn;
+  req_ = nullptr;
+  out_ = nullptr;
+}
+
+void CpuCompositor::draw_band(int row_begin, int row_end) {
+  const CompositeRequest& req = *req_;
+  const int W = req.viewport.width;
+  std::fill(inv_depth_.begin() + static_cast<long>(row_begin) * W,
+            inv_depth_.begin() + static_cast<long>(row_end) * W, 0.0f);
+  const RasterTarget target{synth_rgba_.data(), inv_depth_.data(), W, req.viewport.height};
+  rasterizer_.draw_rows(*scene_, target, row_begin, row_end);
+
+  const core::MarkingParams mark = req.marking.sanitized();
+  const bool desaturate = mark.style == core::MarkingStyle::kDesaturate;
+  const bool checker = mark.style == core::MarkingStyle::kChecker;
+  const float desat = static_cast<float>(mark.synthetic_desaturation);
+  const float checker_step = static_cast<float>(0.5 * mark.checker_contrast * 255.0);
+  const int cell = mark.checker_cell_px;
+  const float bg[3] = {static_cast<float>(scene_->background_rgb[0]),
+                       static_cast<float>(scene_->background_rgb[1]),
+                       static_cast<float>(scene_->background_rgb[2])};
+
+  // Video weight: the global one, or per pixel the continuous w2 of core (DESIGN 7).
+  const double w_video =
+      std::isnan(req.transition.w_video) ? 0.0 : std::clamp(req.transition.w_video, 0.0, 1.0);
+  const bool per_pixel = req.mode == core::TransitionMode::kPerPixel;
+  // Inside the inner rectangle |1 - 2u/W| <= 1 - kappa' the continuous weight is exactly its
+  // strength min(1, 2 w); only the border band needs core's full formula.
+  const double strength = std::min(1.0, 2.0 * w_video);
+  const double inner = 1.0 - std::min(1.0, 2.0 * (1.0 - w_video));
+  const bool any_video = video_on_ && (per_pixel ? strength > 0.0 : w_video > 0.0);
+
+  const drivers::Frame* vf = req.video;
+  const int vw = any_video ? vf->width : 0;
+  const int vh = any_video ? vf->height : 0;
+  const double vwd = vw, vhd = vh;
+  const uint8_t* vdata = any_video ? vf->data.data() : nullptr;
+  const int vstride = any_video ? vf->stride_bytes : 0;
+  const bool nearest = req.sampling == VideoSampling::kNearest;
+  const double inv_near = 1.0 / req.near_m;
+  const Eigen::Matrix3d& H = warp_.H;
+  const Eigen::Vector3d& q = warp_.inv_depth;
+
+  for (int y = row_begin; y < row_end; ++y) {
+    const uint8_t* srow = synth_rgba_.data() + static_cast<long>(y) * W * 4;
+    const float* drow = inv_depth_.data() + static_cast<long>(y) * W;
+    uint8_t* orow = out_->pixel(req.viewport.x, req.viewport.y + y);
+    // Homography and inverse depth at this row's first pixel centre, stepped along x.
+    const double pv = y + 0.5;
+    double hx = H(0, 0) * 0.5 + H(0, 1) * pv + H(0, 2);
+    double hy = H(1, 0) * 0.5 + H(1, 1) * pv + H(1, 2);
+    double hw = H(2, 0) * 0.5 + H(2, 1) * pv + H(2, 2);
+    double iz = q(0) * 0.5 + q(1) * pv + q(2);
+    const int checker_row = y / cell;
+    for (int x = 0; x < W; ++x, hx += H(0, 0), hy += H(1, 0), hw += H(2, 0), iz += q(0)) {
+      float s[3];
+      if (drow[x] > 0.0f) {
+        for (int c = 0; c < 3; ++c) s[c] = srow[4 * x + c];
+      } else {
+        for (int c = 0; c < 3; ++c) s[c] = bg[c];
+      }
+      if (desaturate) {
+        const float grey = 0.299f * s[0] + 0.587f * s[1] + 0.114f * s[2];
+        for (int c = 0; c < 3; ++c) s[c] += desat * (grey - s[c]);
+      } else if (checker) {
+        const float step = ((x / cell + checker_row) & 1) ? -checker_step : checker_step;
+        for (int c = 0; c < 3; ++c) s[c] = std::clamp(s[c] + step, 0.0f, 255.0f);
+      }
+      float a = 0.0f;
+      float v[3] = {0.0f, 0.0f, 0.0f};
+      if (any_video && iz > 0.0 && iz <= inv_near) {
+        const double inv_hw = 1.0 / hw;
+        const double u = hx * inv_hw;
+        const double w = hy * inv_hw;
+        if (u >= 0.0 && u <= vwd && w >= 0.0 && w <= vhd) {
+          double weight = w_video;
+          if (per_pixel) {
+            const double xr = std::abs(1.0 - 2.0 * u / vwd);
+            const double yr = std::abs(1.0 - 2.0 * w / vhd);
+            weight = (xr <= inner && yr <= inner)
+                         ? strength
+                         : core::continuous_pixel_weight(w_video, u, w, vwd, vhd);
+          }
+          a = static_cast<float>(weight);
+          if (a > 0.0f) {
+            if (nearest) {
+              const int xi = std::min(static_cast<int>(u), vw - 1);
+              const int yi = std::min(static_cast<int>(w), vh - 1);
+              const uint8_t* p = vdata + static_cast<long>(yi) * vstride + 4 * xi;
+              for (int c = 0; c < 3; ++c) v[c] = p[c];
+            } else {
+              // 8-bit fixed-point bilinear between texel centres, clamped to the edge texels.
+              // Rounding (not truncating) to 1/256 px keeps an exact texel centre exact.
+              // u, w >= 0 here, so the +256 offset keeps the truncated value positive.
+              const int X = static_cast<int>(u * 256.0 + (256.0 - 128.0 + 0.5)) - 256;
+              const int Y = static_cast<int>(w * 256.0 + (256.0 - 128.0 + 0.5)) - 256;
+              const int x0 = X >> 8, fx = X & 255;  // arithmetic shift: floor, also below 0
+              const int y0 = Y >> 8, fy = Y & 255;
+              const int xa = std::max(x0, 0), xb = std::min(x0 + 1, vw - 1);
+              const int ya = std::max(y0, 0), yb = std::min(y0 + 1, vh - 1);
+              const uint8_t* r0 = vdata + static_cast<long>(ya) * vstride;
+              const uint8_t* r1 = vdata + static_cast<long>(yb) * vstride;
+              for (int c = 0; c < 3; ++c) {
+                const int top = r0[4 * xa + c] * (256 - fx) + r0[4 * xb + c] * fx;
+                const int bot = r1[4 * xa + c] * (256 - fx) + r1[4 * xb + c] * fx;
+                v[c] = static_cast<float>(top * (256 - fy) + bot * fy) * (1.0f / 65536.0f);
+              }
+            }
+          }
+        }
+      }
+      uint8_t* o = orow + 4 * x;
+      for (int c = 0; c < 3; ++c) {
+        const float val = s[c] + a * (v[c] - s[c]);
+        o[c] = static_cast<uint8_t>(std::clamp(val, 0.0f, 255.0f) + 0.5f);
+      }
+      o[3] = 255;
+    }
+    // The variant's coloured frame is painted last, over video and model alike.
+    if (mark.style == core::MarkingStyle::kFrame && mark.frame_width_px > 0) {
+      const core::Rgb& fc = mark.frame_colour(req.transition.variant);
+      const int fw = mark.frame_width_px;
+      const int H_vp = req.viewport.height;
+      const bool full_row = y < fw || y >= H_vp - fw;
+      for (int x = 0; x < W; ++x) {
+        if (full_row || x < fw || x >= W - fw) {
+          uint8_t* o = orow + 4 * x;
+          o[0] = fc.r;
+          o[1] = fc.g;
+          o[2] = fc.b;
+        }
+        if (!full_row && x == fw - 1 && W - fw > x + 1) x = W - fw - 1;  // skip the middle
+      }
+    }
+  }
+}
+
+}  // namespace hd::render

@@ -1,0 +1,57 @@
+#pragma once
+// The CPU reference compositor: the ground truth the GL compositor is tested against.
+
+#include <atomic>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+#include "render/compositor/compositor.h"
+#include "render/compositor/mesh_rasterizer.h"
+#include "render/compositor/video_warp.h"
+
+namespace hd::render {
+
+/// Draws the picture CompositeRequest defines, deterministically: the same request gives the same
+/// bytes whatever the thread count (each row is computed by exactly one thread, the same way).
+///
+/// Speed (see docs/rendering.md): the homography is stepped incrementally along a row, the video
+/// is sampled with 8-bit fixed-point bilinear weights, and with threads = 2 the rows are split
+/// into two bands, one drawn by a persistent worker thread that waits on an atomic (no lock, no
+/// allocation per frame).
+class CpuCompositor final : public Compositor {
+ public:
+  explicit CpuCompositor(int threads = 1);
+  ~CpuCompositor() override;
+  CpuCompositor(const CpuCompositor&) = delete;
+  CpuCompositor& operator=(const CpuCompositor&) = delete;
+
+  void draw(const CompositeRequest& req, ImageRgba8& out) override;
+  const CompositorStats& stats() const override { return stats_; }
+
+ private:
+  struct Frame;  // per-draw constants shared by the bands
+  void draw_band(int row_begin, int row_end);
+  void worker_loop();
+
+  MeshRasterizer rasterizer_;
+  std::vector<uint8_t> synth_rgba_;  ///< viewport-sized synthetic colour
+  std::vector<float> inv_depth_;     ///< viewport-sized depth (1/z, 0 = empty)
+  CompositorStats stats_;
+
+  const CompositeRequest* req_ = nullptr;  ///< valid during draw only
+  ImageRgba8* out_ = nullptr;
+  const SyntheticScene* scene_ = nullptr;
+  VideoWarp warp_;
+  bool video_on_ = false;
+
+  int threads_ = 1;
+  std::thread worker_;
+  std::atomic<uint64_t> job_{0};   ///< incremented to start the worker's band
+  std::atomic<uint64_t> done_{0};  ///< set to job_ when the worker's band is finished
+  std::atomic<bool> quit_{false};
+  int worker_row_begin_ = 0;
+  int worker_row_end_ = 0;
+};
+
+}  // namespace hd::render
