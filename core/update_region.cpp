@@ -11,18 +11,7 @@ std::optional<PixelRect> update_region(const ViewSetup& s) {
   if (!s.valid()) return std::nullopt;
   const CameraPair pair(s);
   VideoQuad quad = video_quad_in_virtual(pair);
-  const Pinhole& k = s.virt;
-  const double w = k.width;
-  const double h = k.height;
-  // Frustum in the virtual frame (same planes as virtual_frustum_world, before the frame change).
-  const HalfSpace3 planes[5] = {
-      HalfSpace3{{0.0, 0.0, 1.0}, -s.near_m},
-      HalfSpace3{{k.fx, 0.0, k.cx}, 0.0}.normalized(),
-      HalfSpace3{{-k.fx, 0.0, w - k.cx}, 0.0}.normalized(),
-      HalfSpace3{{0.0, k.fy, k.cy}, 0.0}.normalized(),
-      HalfSpace3{{0.0, -k.fy, h - k.cy}, 0.0}.normalized(),
-  };
-  for (const auto& p : planes) quad.clip(p);
+  clip_to_virtual_frustum(quad, s);
   if (quad.empty()) return std::nullopt;
   PixelRect r{INFINITY, INFINITY, -INFINITY, -INFINITY};
   const Pinhole& kr = s.real;

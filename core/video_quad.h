@@ -21,4 +21,17 @@ inline VideoQuad video_quad_in_virtual(const CameraPair& pair) {
   return q;
 }
 
+/// Clips the quad (virtual frame) by the virtual frustum: z_o >= near and the 4 image sides.
+/// Clipping in 3D, before projecting, keeps coordinates bounded for huge d or grazing views.
+inline void clip_to_virtual_frustum(VideoQuad& quad, const ViewSetup& s) {
+  const Pinhole& k = s.virt;
+  const double w = k.width;
+  const double h = k.height;
+  quad.clip(HalfSpace3{{0.0, 0.0, 1.0}, -s.near_m});
+  quad.clip(HalfSpace3{{k.fx, 0.0, k.cx}, 0.0}.normalized());
+  quad.clip(HalfSpace3{{-k.fx, 0.0, w - k.cx}, 0.0}.normalized());
+  quad.clip(HalfSpace3{{0.0, k.fy, k.cy}, 0.0}.normalized());
+  quad.clip(HalfSpace3{{0.0, -k.fy, h - k.cy}, 0.0}.normalized());
+}
+
 }  // namespace hd::core
