@@ -52,15 +52,10 @@ const uint8_t* MjpegDecoder::with_huffman_tables(const uint8_t* jpeg, std::size_
 
 bool MjpegDecoder::read_size(const uint8_t* jpeg, std::size_t len, int& width_px, int& height_px) {
   error_[0] = '\0';
-  if (jpeg == nullptr) return fail("corrupt JPEG", "no data");
-  const uint8_t* stream = with_huffman_tables(jpeg, len);
-  if (stream == nullptr) return false;
-  int subsamp = 0;
-  int colorspace = 0;
-  if (tjDecompressHeader3(handle_, stream, static_cast<unsigned long>(len), &width_px, &height_px,
-                          &subsamp, &colorspace) != 0) {
-    return fail("corrupt JPEG header", tjGetErrorStr2(handle_));
-  }
+  const JpegLayout layout = scan_jpeg_layout(jpeg, len);
+  if (!layout.valid) return fail("corrupt JPEG", layout.error);
+  width_px = layout.width_px;
+  height_px = layout.height_px;
   return true;
 }
 
@@ -75,22 +70,21 @@ bool MjpegDecoder::decode_rgba(const uint8_t* jpeg, std::size_t len, int width_p
                            static_cast<std::size_t>(width_px) * 4;
   if (dst_len < need) return fail("MJPEG decode", "destination buffer too small");
 
-  const uint8_t* stream = with_huffman_tables(jpeg, len);
-  if (stream == nullptr) return false;
-  int w = 0;
-  int h = 0;
-  int subsamp = 0;
-  int colorspace = 0;
-  if (tjDecompressHeader3(handle_, stream, static_cast<unsigned long>(len), &w, &h, &subsamp,
-                          &colorspace) != 0) {
-    return fail("corrupt JPEG header", tjGetErrorStr2(handle_));
-  }
+  // The size comes from our own marker walk, not tjDecompressHeader3: in libjpeg-turbo 2.1 that
+  // call does not reset the decompressor when the header is corrupt, and the stale state then
+  // breaks the next, valid frame. tjDecompress2 aborts cleanly on every error.
+  const JpegLayout layout = scan_jpeg_layout(jpeg, len);
+  if (!layout.valid) return fail("corrupt JPEG", layout.error);
+  const int w = layout.width_px;
+  const int h = layout.height_px;
   if (w != width_px || h != height_px) {
     char detail[96];
     std::snprintf(detail, sizeof(detail), "frame is %dx%d, stream negotiated %dx%d", w, h, width_px,
                   height_px);
     return fail("MJPEG size mismatch", detail);
   }
+  const uint8_t* stream = with_huffman_tables(jpeg, len);
+  if (stream == nullptr) return false;
   // STOPONWARNING: a truncated frame is a libjpeg *warning* (it pads with grey); we drop it.
   // LIMITSCANS: a corrupt progressive stream cannot make us loop over thousands of scans.
   if (tjDecompress2(handle_, stream, static_cast<unsigned long>(len), dst, width_px,

@@ -86,6 +86,10 @@ JpegLayout scan_jpeg_layout(const uint8_t* jpeg, std::size_t len) {
     if (pos >= len) break;
     const uint8_t marker = jpeg[pos++];
     if (marker == 0xDA) {
+      if (out.width_px == 0 || out.height_px == 0) {
+        out.error = "no frame header (SOF) with a nonzero size before the scan";
+        return out;
+      }
       out.sos_offset = marker_at;
       out.valid = true;
       return out;
@@ -102,6 +106,13 @@ JpegLayout scan_jpeg_layout(const uint8_t* jpeg, std::size_t len) {
       return out;
     }
     if (marker == 0xC4) out.has_huffman = true;
+    // SOF0..SOF15 except DHT (C4), JPG (C8) and DAC (CC): precision, height, width follow.
+    const bool sof =
+        marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+    if (sof && out.width_px == 0 && seg_len >= 7) {
+      out.height_px = (jpeg[pos + 3] << 8) | jpeg[pos + 4];
+      out.width_px = (jpeg[pos + 5] << 8) | jpeg[pos + 6];
+    }
     pos += seg_len;
   }
   out.error = "truncated before the start of scan (SOS)";

@@ -9,9 +9,11 @@ namespace hd::drivers {
 
 /// Where the markers of a JPEG stream lie, found without decoding it.
 struct JpegLayout {
-  bool valid = false;           ///< starts with SOI, every segment length fits, an SOS follows
-  bool has_huffman = false;     ///< a DHT segment precedes the first SOS
-  std::size_t sos_offset = 0;   ///< offset of the 0xFF of the first SOS marker
+  bool valid = false;  ///< SOI, segment lengths that fit, an SOF with a nonzero size, then SOS
+  bool has_huffman = false;    ///< a DHT segment precedes the first SOS
+  std::size_t sos_offset = 0;  ///< offset of the 0xFF of the first SOS marker
+  int width_px = 0;            ///< from the first SOF (frame header)
+  int height_px = 0;
   const char* error = nullptr;  ///< why it is not valid (static string)
 };
 

@@ -207,5 +207,28 @@ TEST(MjpegDecoder, RejectsTruncatedCorruptAndMismatchedFrames) {
   EXPECT_STREQ(dec.error(), "");
 }
 
+TEST(MjpegDecoder, AValidFrameDecodesAfterACorruptHeader) {
+  // Regression: a bogus DHT left libjpeg-turbo's decompressor mid-header, and the next, valid
+  // frame then failed with the same error.
+  const int w = 32;
+  const int h = 16;
+  const auto jpeg = encode(test_image(w, h), w, h, 90);
+  std::vector<uint8_t> bogus = jpeg;
+  const std::size_t dht = [&] {
+    for (std::size_t p = 2; p + 1 < bogus.size(); ++p) {
+      if (bogus[p] == 0xFF && bogus[p + 1] == 0xC4) return p;
+    }
+    return std::size_t{0};
+  }();
+  ASSERT_GT(dht, 0u);
+  for (int i = 0; i < 16; ++i) bogus[dht + 5 + i] = 0xFF;  // code counts summing far past 256
+  MjpegDecoder dec;
+  std::vector<uint8_t> out(static_cast<std::size_t>(w) * h * 4);
+  EXPECT_FALSE(dec.decode_rgba(bogus.data(), bogus.size(), w, h, out.data(), out.size(), w * 4));
+  EXPECT_NE(std::string(dec.error()).find("Huffman"), std::string::npos) << dec.error();
+  EXPECT_TRUE(dec.decode_rgba(jpeg.data(), jpeg.size(), w, h, out.data(), out.size(), w * 4))
+      << dec.error();
+}
+
 }  // namespace
 }  // namespace hd::drivers
