@@ -22,12 +22,12 @@ namespace hd::drivers {
 struct HidHeadTrackerConfig {
   std::string id = "hid-head-tracker";
   HidReportFormat format = android_head_tracker_v1();
-  HidTransportOpener opener;
+  HidTransportOpener opener{};
   int64_t stall_timeout_ns = 250'000'000;    ///< no valid report for this long: kStalled
   int64_t reopen_interval_ns = 250'000'000;  ///< retry period while disconnected
   int read_timeout_ms = 20;                  ///< bounds how late stop() and stall detection are
   int report_interval_ms = 10;               ///< requested in the control feature report
-  DeviceClockMapperConfig clock;             ///< used when the format carries a device time
+  DeviceClockMapperConfig clock{};           ///< used when the format carries a device time
 };
 
 class HidHeadTracker : public PoseSource {

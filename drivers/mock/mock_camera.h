@@ -1,0 +1,71 @@
+#pragma once
+// A CameraSource that serves generated frames at a set rate, with a controllable device clock
+// offset, delivery delay, and scripted drops and stalls. Frames come from a callback so the
+// simulator can render the scene into them; the default is a test pattern that carries its
+// sequence number in the pixels.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "drivers/camera_source.h"
+
+namespace hd::drivers {
+
+/// Fills an RGBA8 frame (already sized) for device frame `sequence`.
+using FrameGenerator = std::function<void(Frame& frame, uint64_t sequence)>;
+
+/// Deterministic pattern: a gradient with the sequence number in the first 8 bytes.
+void write_test_pattern(Frame& frame, uint64_t sequence);
+/// The sequence number write_test_pattern() stored, or UINT64_MAX for a too-small frame.
+uint64_t read_test_pattern_sequence(const Frame& frame);
+
+struct MockStall {
+  uint64_t before_sequence = 0;  ///< the stall happens before this frame is produced
+  int64_t duration_ns = 0;
+};
+
+struct MockCameraConfig {
+  std::string id = "mock-camera";
+  int width = 64;
+  int height = 48;
+  double rate_hz = 60.0;
+  FrameGenerator generator{};           ///< empty: write_test_pattern
+  int64_t device_clock_offset_ns = 0;   ///< device clock = host exposure time + offset
+  int64_t delivery_delay_ns = 0;        ///< published this long after exposure
+  std::set<uint64_t> drop_sequences{};  ///< frames lost "on the wire": a sequence gap
+  std::vector<MockStall> stalls{};
+  int64_t stall_timeout_ns = 200'000'000;
+};
+
+class MockCamera : public CameraSource {
+ public:
+  explicit MockCamera(MockCameraConfig config);
+  ~MockCamera() override;
+  MockCamera(const MockCamera&) = delete;
+  MockCamera& operator=(const MockCamera&) = delete;
+
+  std::string id() const override { return config_.id; }
+  void open() override;  ///< throws DeviceError on a bad size or rate
+  void start() override;
+  void stop() override;
+  SourceState state() const override;
+  uint64_t dropped_frames() const override { return dropped_.load(std::memory_order_relaxed); }
+  Mailbox<Frame>& frames() override { return frames_; }
+
+ private:
+  void run();
+  MockCameraConfig config_;
+  bool opened_ = false;
+  std::atomic<bool> running_{false};
+  std::atomic<uint64_t> dropped_{0};
+  std::atomic<int64_t> last_publish_ns_{0};
+  std::thread thread_;
+  Mailbox<Frame> frames_;
+};
+
+}  // namespace hd::drivers

@@ -1,0 +1,86 @@
+#include "drivers/mock/mock_camera.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "test_wait.h"
+
+namespace hd::drivers {
+namespace {
+
+TEST(MockCamera, TestPatternCarriesSequenceAndGradient) {
+  Frame f;
+  f.allocate_rgba(32, 16);
+  write_test_pattern(f, 0x0102030405060708ull);
+  EXPECT_EQ(read_test_pattern_sequence(f), 0x0102030405060708ull);
+  const uint8_t* p = f.data.data() + 5 * f.stride_bytes + 4 * 10;  // x = 10, y = 5
+  EXPECT_EQ(p[0], 10 * 255 / 31);
+  EXPECT_EQ(p[1], 5 * 255 / 15);
+  EXPECT_EQ(p[3], 255);
+  Frame tiny;
+  EXPECT_EQ(read_test_pattern_sequence(tiny), UINT64_MAX);
+}
+
+TEST(MockCamera, ServesFramesWithScriptedDropsAndClockOffset) {
+  MockCamera cam({.width = 16,
+                  .height = 8,
+                  .rate_hz = 250.0,
+                  .device_clock_offset_ns = 5'000'000'000,
+                  .drop_sequences = {3, 5}});
+  cam.start();
+  std::vector<uint64_t> seen;
+  ASSERT_TRUE(eventually([&] {
+    if (cam.frames().fetch()) {
+      const Frame& f = cam.frames().latest();
+      EXPECT_EQ(read_test_pattern_sequence(f), f.sequence);
+      EXPECT_EQ(f.device_timestamp_ns - f.host_timestamp_ns, 5'000'000'000);
+      EXPECT_EQ(f.width, 16);
+      seen.push_back(f.sequence);
+    }
+    return !seen.empty() && seen.back() >= 12;
+  }));
+  cam.stop();
+  EXPECT_EQ(cam.dropped_frames(), 2u);
+  for (uint64_t s : seen) EXPECT_TRUE(s != 3 && s != 5) << s;
+  for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GT(seen[i], seen[i - 1]);
+}
+
+TEST(MockCamera, ScriptedStallIsReportedAndRecovers) {
+  MockCamera cam({.rate_hz = 200.0,
+                  .stalls = {{.before_sequence = 4, .duration_ns = 600'000'000}},
+                  .stall_timeout_ns = 100'000'000});
+  cam.start();
+  ASSERT_TRUE(eventually([&] { return cam.state() == SourceState::kStalled; }));
+  ASSERT_TRUE(eventually([&] { return cam.state() == SourceState::kStreaming; }));
+  cam.stop();
+  EXPECT_EQ(cam.state(), SourceState::kClosed);
+  EXPECT_EQ(cam.dropped_frames(), 0u);
+}
+
+TEST(MockCamera, GeneratorCallbackFillsFrames) {
+  MockCamera cam({.width = 4, .height = 4, .rate_hz = 500.0, .generator = [](Frame& f, uint64_t s) {
+                    std::fill(f.data.begin(), f.data.end(), static_cast<uint8_t>(s & 0xFF));
+                  }});
+  cam.start();
+  ASSERT_TRUE(
+      eventually([&] { return cam.frames().fetch() && cam.frames().latest().sequence > 2; }));
+  const Frame& f = cam.frames().latest();
+  EXPECT_EQ(f.data[17], static_cast<uint8_t>(f.sequence & 0xFF));
+  cam.stop();
+}
+
+TEST(MockCamera, BadSizeOrRateThrowsNamingTheCamera) {
+  MockCamera bad({.id = "cam-left", .width = 0});
+  try {
+    bad.open();
+    FAIL();
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("cam-left"), std::string::npos);
+  }
+  MockCamera slow({.rate_hz = 0});
+  EXPECT_THROW(slow.open(), DeviceError);
+}
+
+}  // namespace
+}  // namespace hd::drivers
