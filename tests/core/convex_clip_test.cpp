@@ -109,7 +109,8 @@ TEST(ConvexPolyhedron, UncutBoxHasItsEightCorners) {
 }
 
 TEST(ConvexPolyhedron, CornerCutOfTheUnitCube) {
-  // x + y + z >= 2.5 leaves the tetrahedron at (1,1,1) with corners (0.5,1,1), (1,0.5,1), (1,1,0.5).
+  // x + y + z >= 2.5 leaves the tetrahedron at (1,1,1) with corners (0.5,1,1), (1,0.5,1),
+  // (1,1,0.5).
   const WorkspaceBox b{{0, 0, 0}, {1, 1, 1}};
   const HalfSpace3 cut{{1, 1, 1}, -2.5};
   const auto P = ConvexPolyhedron::box_cut_by(b, &cut, 1, 1e-12);

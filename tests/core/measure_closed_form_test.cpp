@@ -40,7 +40,7 @@ TEST(ClosedForm, IssueExample) {
   const ViewSetup s = example_setup();
   EXPECT_NEAR(*reprojection_error(s, {0, 0, 1.0}), 20.0, 1e-9);
   const ViewMeasure vm = measure_view(s);
-  EXPECT_NEAR(vm.e_max_px, 60.0, 1e-9);  // 1000 * 0.02 * |1/0.2 - 1/0.5|
+  EXPECT_NEAR(vm.e_max_px, 60.0, 1e-9);   // 1000 * 0.02 * |1/0.2 - 1/0.5|
   EXPECT_NEAR(vm.coverage, 0.95, 1e-12);  // quad spans u in [-40, 760] of [0, 800]
   EXPECT_NEAR(vm.m, 60.0 / 0.95, 1e-9);
   expect_region(vm, 80, 0, 1600, 1200);
@@ -79,7 +79,7 @@ TEST(ClosedForm, PureRotationHasNoError) {
   s.T_world_virt.t = s.T_world_real.t;
   s.T_world_virt.R = rot(0.3, -0.2, 0.1);
   for (const Eigen::Vector3d& X : {Eigen::Vector3d(0.1, 0.05, 0.8), Eigen::Vector3d(0.3, 0, 0.9),
-                                  Eigen::Vector3d(0.2, -0.1, 0.3)}) {
+                                   Eigen::Vector3d(0.2, -0.1, 0.3)}) {
     const auto e = reprojection_error(s, X);
     ASSERT_TRUE(e.has_value());
     EXPECT_NEAR(*e, 0.0, 1e-9);
