@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/blend_weights.h"
+#include "render/compositor/request_check.h"
 
 namespace hd::render {
 
@@ -12,36 +13,6 @@ namespace {
 const SyntheticScene& empty_scene() {
   static const SyntheticScene scene;
   return scene;
-}
-
-bool finite_positive(double x) {
-  return std::isfinite(x) && x > 0.0;
-}
-
-bool request_ok(const CompositeRequest& r, const ImageRgba8& out) {
-  const Viewport& vp = r.viewport;
-  if (vp.x < 0 || vp.y < 0 || vp.width <= 0 || vp.height <= 0) return false;
-  if (vp.x + vp.width > out.width || vp.y + vp.height > out.height) return false;
-  if (out.stride_bytes < 4 * out.width) return false;
-  if (out.data.size() <
-      static_cast<std::size_t>(out.stride_bytes) * static_cast<std::size_t>(out.height)) {
-    return false;
-  }
-  if (r.eye.width != vp.width || r.eye.height != vp.height || !r.eye.valid()) return false;
-  if (!r.T_world_eye.valid()) return false;
-  return finite_positive(r.near_m) && std::isfinite(r.far_m) && r.far_m > r.near_m;
-}
-
-bool video_ok(const CompositeRequest& r) {
-  const drivers::Frame* f = r.video;
-  if (f->format != drivers::PixelFormat::kRgba8 || f->width <= 0 || f->height <= 0) return false;
-  if (f->width != r.real.width || f->height != r.real.height) return false;
-  if (f->stride_bytes < 4 * f->width) return false;
-  if (f->data.size() <
-      static_cast<std::size_t>(f->stride_bytes) * static_cast<std::size_t>(f->height)) {
-    return false;
-  }
-  return r.real.valid() && r.T_world_real.valid() && finite_positive(r.d_m);
 }
 
 }  // namespace
@@ -72,7 +43,7 @@ void CpuCompositor::worker_loop() {
 }
 
 void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
-  if (!request_ok(req, out)) {
+  if (!request_drawable(req, out)) {
     ++stats_.requests_rejected;
     return;
   }
@@ -86,7 +57,7 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   scene_ = req.scene ? req.scene : &empty_scene();
   video_on_ = false;
   if (req.video != nullptr && req.has_region) {
-    if (video_ok(req)) {
+    if (video_usable(req)) {
       warp_ = VideoWarp::make(req.eye, req.T_world_eye, req.real, req.T_world_real, req.d_m);
       video_on_ = warp_.usable;
     } else {

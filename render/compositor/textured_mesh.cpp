@@ -7,7 +7,7 @@ namespace hd::render {
 
 bool TexturedMesh::valid() const {
   if (uvs.size() != positions_m.size() || texture.empty()) return false;
-  if (texture.stride_bytes < 4 * texture.width) return false;
+  if (texture.stride_bytes < 4 * texture.width || texture.stride_bytes % 4 != 0) return false;
   if (texture.data.size() <
       static_cast<std::size_t>(texture.stride_bytes) * static_cast<std::size_t>(texture.height)) {
     return false;

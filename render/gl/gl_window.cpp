@@ -1,0 +1,95 @@
+#include "render/gl/gl_window.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <mutex>
+#include <stdexcept>
+
+namespace hd::render::gl {
+
+namespace {
+
+std::mutex g_glfw_mutex;  // guards the init count (construction only, never per frame)
+int g_glfw_users = 0;
+std::string g_last_error;
+
+void on_glfw_error(int code, const char* description) {
+  g_last_error = "GLFW error " + std::to_string(code) + ": " + (description ? description : "?");
+}
+
+void glfw_acquire() {
+  std::lock_guard lock(g_glfw_mutex);
+  if (g_glfw_users == 0) {
+    glfwSetErrorCallback(on_glfw_error);
+    if (!glfwInit()) {
+      throw std::runtime_error("GL window: glfwInit failed (is DISPLAY set? run under xvfb-run): " +
+                               g_last_error);
+    }
+  }
+  ++g_glfw_users;
+}
+
+void glfw_release() {
+  std::lock_guard lock(g_glfw_mutex);
+  if (--g_glfw_users == 0) glfwTerminate();
+}
+
+}  // namespace
+
+Window::Window(const WindowOptions& o) {
+  glfw_acquire();
+  glfwDefaultWindowHints();
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_FALSE);  // sRGB off: the CPU reference is linear bytes
+  glfwWindowHint(GLFW_VISIBLE, o.headless ? GLFW_FALSE : GLFW_TRUE);
+  GLFWmonitor* monitor = nullptr;
+  int w = o.width, h = o.height;
+  if (o.monitor >= 0 && !o.headless) {
+    int count = 0;
+    GLFWmonitor** monitors = glfwGetMonitors(&count);
+    if (o.monitor >= count) {
+      glfw_release();
+      throw std::runtime_error("GL window: monitor " + std::to_string(o.monitor) + " requested, " +
+                               std::to_string(count) + " connected");
+    }
+    monitor = monitors[o.monitor];
+    const GLFWvidmode* mode = glfwGetVideoMode(monitor);
+    w = mode->width;
+    h = mode->height;
+  }
+  window_ = glfwCreateWindow(w, h, o.title.c_str(), monitor, nullptr);
+  if (window_ == nullptr) {
+    glfw_release();
+    throw std::runtime_error("GL window: no OpenGL 3.3 core context could be created: " +
+                             g_last_error);
+  }
+  glfwMakeContextCurrent(window_);
+  glfwSwapInterval(o.vsync ? 1 : 0);
+}
+
+Window::~Window() {
+  glfwDestroyWindow(window_);
+  glfw_release();
+}
+
+void Window::make_current() {
+  glfwMakeContextCurrent(window_);
+}
+void Window::swap_buffers() {
+  glfwSwapBuffers(window_);
+}
+bool Window::should_close() const {
+  return glfwWindowShouldClose(window_) != 0;
+}
+void Window::poll_events() {
+  glfwPollEvents();
+}
+void Window::framebuffer_size(int* width, int* height) const {
+  glfwGetFramebufferSize(window_, width, height);
+}
+
+}  // namespace hd::render::gl
