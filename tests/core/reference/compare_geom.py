@@ -402,6 +402,50 @@ _close_rel = _safe(_close_rel)
 _region_close = _safe(_region_close)
 
 
+def _malformed():
+    """(what, file text, field the message must name) -- inputs both sides must reject."""
+    def edit(fn):
+        s = json.loads(json.dumps(scenario()))
+        fn(s)
+        return json.dumps(s)
+
+    return [
+        ("missing d", edit(lambda s: s.pop("d")), "d"),
+        ("d = 0", edit(lambda s: s.update(d=0.0)), "d"),
+        ("near < 0", edit(lambda s: s.update(near=-0.01)), "near"),
+        ("point with 2 coordinates", edit(lambda s: s.update(points=[[1, 2]])), "points[0]"),
+        ("fx a string", edit(lambda s: s["virtual"].update(fx="abc")), "virtual.fx"),
+        ("eps < 0", edit(lambda s: s["blend"].update(eps=-1)), "blend.eps"),
+        ("width 0", edit(lambda s: s["real"].update(width=0)), "real.width"),
+        ("R not a rotation", edit(lambda s: s["real"].update(R=[1, 0, 0, 0, 1, 0, 0, 0, 2])), "real.R"),
+        ("R with 8 numbers", edit(lambda s: s["virtual"].update(R=[1, 0, 0, 0, 1, 0, 0, 0])), "virtual.R"),
+        ("workspace missing", edit(lambda s: s.pop("workspace")), "workspace"),
+        ("not JSON", '{"real": ', ""),
+    ]
+
+
+def malformed_probes(binary):
+    """Issue #2 item 3: malformed input -> message naming the field on stderr, exit 2, empty
+    stdout. The reference must reject the same inputs (so the contract is one contract)."""
+    bad = []
+    with tempfile.TemporaryDirectory(prefix="compare_geom_bad_") as tmp:
+        for what, text, field in _malformed():
+            path = os.path.join(tmp, "bad.json")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(text)
+            p = subprocess.run([binary, path], capture_output=True, text=True, timeout=30)
+            if p.returncode != 2 or p.stdout != "" or field not in p.stderr:
+                bad.append(f"malformed input ({what}): hybrid-geom exit {p.returncode}, "
+                           f"stdout {p.stdout[:80]!r}, stderr {p.stderr.strip()[:160]!r} "
+                           f"(expected exit 2, no stdout, a message naming {field!r})")
+            try:
+                ref.evaluate_json(json.loads(text))
+                bad.append(f"malformed input ({what}): the reference accepted it")
+            except (ref.ScenarioError, json.JSONDecodeError):
+                pass
+    return bad
+
+
 def run_comparison(binary):
     named = all_scenarios()
     scenarios = [s for _, s in named]
@@ -424,10 +468,10 @@ def run_comparison(binary):
         return 1
     want = [ref.evaluate(ref.parse_scenario(s, f"[{i}]")) for i, s in enumerate(scenarios)]
     fields, bad = compare(named, got, want)
+    bad += malformed_probes(binary)
     n_hard = len(named) - N_RANDOM - N_TIE
     print(f"{len(named)} scenarios ({N_RANDOM} random, {N_TIE} random exact-tie, {n_hard} named hard), "
-          f"{fields} fields compared, "
-          f"{len(bad)} mismatches")
+          f"{fields} fields compared, {len(_malformed())} malformed inputs probed, {len(bad)} mismatches")
     for line in bad:
         print("MISMATCH " + line)
     return 1 if bad else 0
