@@ -28,6 +28,7 @@ import reference_geom as ref  # noqa: E402
 SEED = 20261122
 N_RANDOM = 300
 N_TIE = 60
+N_NUDGE = 40
 
 # ----------------------------------------------------------------------------- small math
 
@@ -198,6 +199,32 @@ def tie_scenario(rng):
     return s
 
 
+def near_degenerate_scenario(rng):
+    """A degenerate setup nudged by 1e-12 .. 1e-3 (angle or position): the regime where a
+    floating-point implementation is ill-conditioned and the exact reference is ground truth."""
+    nudge = 10 ** rng.uniform(-12, -3)
+    sign = rng.choice([-1, 1])
+    kind = rng.randrange(5)
+    if kind == 0:  # virtual axis almost in the projection plane, centre almost on it
+        R = rodrigues([0, 1, 0], math.pi / 2 + sign * nudge)
+        v = cam(1000, 1000, 400, 300, 800, 600, R=R, t=(-0.25, 0, 0.5 + rng.choice([-1, 1]) * nudge))
+        return scenario(virtual=v)
+    if kind == 1:  # virtual centre almost on the plane, looking along the real axis
+        return scenario(virtual=cam(1000, 1000, 400, 300, 800, 600, t=(0.01, 0, 0.5 + sign * nudge)),
+                        points=[[0, 0, 0.9]])
+    if kind == 2:  # box face almost on the virtual near plane
+        return scenario(near=0.25, ws={"min": [-0.5, -0.5, -1.0], "max": [0.5, 0.5, 0.25 + sign * nudge]})
+    if kind == 3:  # quad almost touching the frustum side
+        return scenario(real=cam(2048, 2048, 512, 512, 1024, 1024),
+                        virtual=cam(2048, 2048, 512, 512, 1024, 1024, t=(0.5 + sign * nudge, 0, 0)), d=1.0,
+                        ws={"min": [-1, -1, 0.5], "max": [1, 1, 2]}, pixels=[[512, 512]])
+    # workspace almost flat, frustum almost parallel to a box face
+    R = rodrigues([1, 0, 0], math.radians(rng.uniform(0, 20)))
+    lo = [-0.3, -0.3, 0.6]
+    return scenario(virtual=cam(1000, 1000, 400, 300, 800, 600, R=R, t=(0.02, 0.01, 0)),
+                    ws={"min": lo, "max": [0.3, 0.3, 0.6 + nudge]})
+
+
 def hard_scenarios():
     """DESIGN.md "Principles": the hard cases, each named."""
     H = []
@@ -326,6 +353,7 @@ def all_scenarios():
     rng = random.Random(SEED)
     named = [(f"random #{i}", random_scenario(rng)) for i in range(N_RANDOM)]
     named += [(f"exact-tie #{i}", tie_scenario(rng)) for i in range(N_TIE)]
+    named += [(f"near-degenerate #{i}", near_degenerate_scenario(rng)) for i in range(N_NUDGE)]
     return named + hard_scenarios()
 
 
@@ -352,8 +380,21 @@ def _region_close(a, b):
     return len(a) == 4 and len(b) == 4 and all(abs(x - y) <= 1e-4 for x, y in zip(a, b))
 
 
-def compare(named, got, want):
-    """Returns (fields compared, list of mismatch strings)."""
+def _difference(field, a, b):
+    """How much of its tolerance a finite pair uses (1.0 = at the limit), for the report."""
+    try:
+        if field == "update_region":
+            return max(abs(x - y) for x, y in zip(a, b)) / 1e-4
+        if field in ("E", "E_max", "m"):
+            return abs(a - b) / (1e-6 * max(abs(a), abs(b)) + 1e-9)
+        return abs(a - b) / (1e-7 if field == "coverage" else 1e-9)
+    except (TypeError, ValueError):
+        return None
+
+
+def compare(named, got, want, worst=None):
+    """Returns (fields compared, list of mismatch strings). `worst` (a dict) collects the
+    largest difference per field kind among the pairs that are both finite."""
     fields = 0
     bad = []
     for idx, ((name, _), g, w) in enumerate(zip(named, got, want)):
@@ -362,6 +403,11 @@ def compare(named, got, want):
             fields += 1
             if not ok(gv, wv):
                 bad.append(f"scenario {idx} ({name}): {field}: hybrid-geom={gv!r} reference={wv!r}")
+            if worst is not None and gv is not None and wv is not None:
+                kind = field.split("[")[0]
+                diff = _difference(kind, gv, wv)
+                if diff is not None and diff > worst.get(kind, (-1.0, ""))[0]:
+                    worst[kind] = (diff, f"scenario {idx} ({name})")
 
         if not isinstance(g, dict):
             bad.append(f"scenario {idx} ({name}): hybrid-geom result is not an object: {g!r}")
@@ -467,11 +513,15 @@ def run_comparison(binary):
               f"{type(got).__name__} of {len(got) if isinstance(got, list) else '-'}")
         return 1
     want = [ref.evaluate(ref.parse_scenario(s, f"[{i}]")) for i, s in enumerate(scenarios)]
-    fields, bad = compare(named, got, want)
+    worst = {}
+    fields, bad = compare(named, got, want, worst)
     bad += malformed_probes(binary)
-    n_hard = len(named) - N_RANDOM - N_TIE
-    print(f"{len(named)} scenarios ({N_RANDOM} random, {N_TIE} random exact-tie, {n_hard} named hard), "
+    n_hard = len(named) - N_RANDOM - N_TIE - N_NUDGE
+    print(f"{len(named)} scenarios ({N_RANDOM} random, {N_TIE} exact-tie, {N_NUDGE} near-degenerate, "
+          f"{n_hard} named hard), "
           f"{fields} fields compared, {len(_malformed())} malformed inputs probed, {len(bad)} mismatches")
+    for kind, (used, where) in sorted(worst.items()):
+        print(f"  largest {kind} difference: {100 * used:.3g}% of its tolerance ({where})")
     for line in bad:
         print("MISMATCH " + line)
     return 1 if bad else 0
