@@ -1,0 +1,98 @@
+#pragma once
+// One frame of the station, as the frame loop runs it: late-latched predicted pose, m for every
+// camera and eye, camera choice, transition, compositing, guidance, latency record.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/marking.h"
+#include "core/transition.h"
+#include "core/view_measure.h"
+#include "core/workspace_box.h"
+#include "drivers/camera_source.h"
+#include "drivers/pose_source.h"
+#include "render/compositor/compositor.h"
+#include "render/latency/latency_recorder.h"
+#include "render/loop/frame_loop.h"
+#include "render/prediction/pose_history.h"
+#include "render/selection/camera_selector.h"
+#include "render/selection/guidance_cue.h"
+#include "render/stereo/stereo_rig.h"
+
+namespace hd::render {
+
+/// A calibrated camera the station may show: its device and its p_c, P_c, plane distance d.
+struct StationCamera {
+  drivers::CameraSource* source = nullptr;
+  core::Pinhole p_c;
+  core::Pose T_world_real;
+  double d_m = 1.0;
+};
+
+struct StationFrameConfig {
+  StereoRig rig;
+  core::Pose T_world_tracker;  ///< where the tracker's frame sits in the workspace
+  core::WorkspaceBox workspace;
+  double near_m = 0.05;
+  core::TransitionParams transition;
+  SelectionParams selection;
+  core::MarkingParams marking;
+  bool draw_guidance = true;
+  std::size_t max_rows = 100'000;  ///< per-frame rows kept (preallocated)
+};
+
+/// What was decided in one frame (one CSV row of the run command).
+struct FrameRow {
+  uint64_t frame = 0;
+  double m = 0.0;  ///< chosen camera's worse-eye m (+inf: none usable)
+  double w_video = 0.0;
+  int camera = -1;
+  core::Variant variant = core::Variant::kSynthetic;
+  bool guidance = false;
+  double guidance_distance_m = 0.0;
+  double guidance_dir_x = 0.0, guidance_dir_y = 0.0;
+  double head_x_m = 0.0, head_y_m = 0.0, head_z_m = 0.0;  ///< predicted head position
+};
+
+/// Per-frame work. Everything is sized in the constructor; tick() does not allocate (shown by
+/// loop_no_allocation_test), lock or throw.
+class StationFrame final : public FrameWork {
+ public:
+  StationFrame(StationFrameConfig config, std::span<const StationCamera> cameras,
+               drivers::PoseSource& pose, PosePredictor& predictor, Compositor& compositor,
+               const SyntheticScene* scene, LoopClock& clock, LatencyRecorder& latency);
+
+  void tick(const FrameTiming& timing) override;
+
+  const ImageRgba8& image() const { return out_; }
+  const std::vector<FrameRow>& rows() const { return rows_; }
+  uint64_t rows_dropped() const { return rows_dropped_; }
+  const PoseHistory& pose_history() const { return history_; }
+  const CameraSelector& selector() const { return selector_; }
+  /// Frames in which each camera showed a new frame (index = camera).
+  const std::vector<uint64_t>& frames_fetched() const { return fetched_; }
+
+ private:
+  StationFrameConfig config_;
+  std::vector<StationCamera> cameras_;
+  std::vector<GuidanceCamera> guidance_cameras_;
+  drivers::PoseSource& pose_;
+  PosePredictor& predictor_;
+  Compositor& compositor_;
+  const SyntheticScene* scene_;
+  LoopClock& clock_;
+  LatencyRecorder& latency_;
+  core::Transition transition_;
+  CameraSelector selector_;
+  PoseHistory history_;
+  ImageRgba8 out_;
+  std::vector<double> m_camera_;            ///< worse-eye m per camera
+  std::vector<core::ViewMeasure> measure_;  ///< [camera * 2 + eye]
+  std::vector<uint8_t> has_frame_;
+  std::vector<uint64_t> fetched_;
+  std::vector<FrameRow> rows_;
+  uint64_t rows_dropped_ = 0;
+};
+
+}  // namespace hd::render

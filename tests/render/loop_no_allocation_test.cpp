@@ -1,0 +1,174 @@
+// The whole station frame (mock camera + mock pose source + CPU compositor + prediction +
+// selection + transition + latency) allocates nothing on the render thread after warm-up.
+// A global operator new replacement counts allocations made by this thread while enabled.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+#include "drivers/mock/mock_camera.h"
+#include "drivers/mock/mock_pose_source.h"
+#include "render/compositor/cpu_compositor.h"
+#include "render/loop/station_frame.h"
+#include "render/prediction/kalman_predictor.h"
+
+namespace {
+thread_local bool t_counting = false;
+std::atomic<uint64_t> g_allocations{0};
+
+void* counted_alloc(std::size_t n, std::size_t align) {
+  if (t_counting) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  void* p = align > alignof(std::max_align_t)
+                ? std::aligned_alloc(align, (n + align - 1) / align * align)
+                : std::malloc(n ? n : 1);
+  if (!p) throw std::bad_alloc();
+  return p;
+}
+}  // namespace
+
+void* operator new(std::size_t n) {
+  return counted_alloc(n, 0);
+}
+void* operator new[](std::size_t n) {
+  return counted_alloc(n, 0);
+}
+void* operator new(std::size_t n, std::align_val_t a) {
+  return counted_alloc(n, static_cast<std::size_t>(a));
+}
+void* operator new[](std::size_t n, std::align_val_t a) {
+  return counted_alloc(n, static_cast<std::size_t>(a));
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}
+
+namespace hd::render {
+namespace {
+
+// Counts only while a frame runs on this thread.
+class CountingWork final : public FrameWork {
+ public:
+  explicit CountingWork(FrameWork& inner) : inner_(inner) {}
+  void tick(const FrameTiming& t) override {
+    t_counting = counting;
+    inner_.tick(t);
+    t_counting = false;
+  }
+  bool counting = false;
+
+ private:
+  FrameWork& inner_;
+};
+
+SyntheticScene make_scene() {
+  SyntheticScene scene;
+  TexturedMesh quad;
+  quad.positions_m = {{-1, -1, 2}, {1, -1, 2}, {1, 1, 2}, {-1, 1, 2}};
+  quad.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+  quad.texture.allocate(8, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) quad.texture.pixel(x, y)[(x + y) % 3] = 255;
+  scene.meshes.push_back(std::move(quad));
+  return scene;
+}
+
+TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
+  const core::Pinhole cam_k{160, 160, 80, 60, 160, 120};
+  drivers::MockCameraConfig cc;
+  cc.width = 160;
+  cc.height = 120;
+  cc.rate_hz = 120.0;
+  drivers::MockCamera camera(cc);
+  drivers::MockPoseSourceConfig pc;
+  // Head sways 20 cm sideways around the camera position: video, hybrid and synthetic all occur.
+  pc.motion = [](double t_s) {
+    drivers::TrajectorySample s;
+    s.t_s = t_s;
+    s.position_m = {0.2 * std::sin(2.0 * M_PI * 1.5 * t_s), 0.0, 0.0};
+    s.q = Eigen::Quaterniond(
+        Eigen::AngleAxisd(0.3 * std::sin(2.0 * M_PI * t_s), Eigen::Vector3d::UnitY()));
+    return s;
+  };
+  pc.rate_hz = 500.0;
+  drivers::MockPoseSource pose(pc);
+  camera.open();
+  pose.open();
+  camera.start();
+  pose.start();
+
+  StationFrameConfig cfg;
+  cfg.rig = StereoRig();
+  cfg.rig.eye = {core::Pinhole{150, 150, 80, 60, 160, 120},
+                 core::Pinhole{150, 150, 80, 60, 160, 120}};
+  cfg.workspace.min_m = {-1, -1, 1};
+  cfg.workspace.max_m = {1, 1, 3};
+  cfg.transition.m_t = 8;  // m swings between ~3 and ~36 with this motion
+  cfg.transition.eps = 3;
+  cfg.transition.time_constant_s = 0.0;
+  cfg.max_rows = 400;
+  const StationCamera cams[] = {{&camera, cam_k, core::Pose::identity(), 2.0}};
+  const SyntheticScene scene = make_scene();
+  KalmanPredictor predictor;
+  CpuCompositor compositor(1);
+  MonotonicLoopClock clock;
+  LatencyRecorder latency(400);
+  StationFrame frame(cfg, cams, pose, predictor, compositor, &scene, clock, latency);
+  CountingWork work(frame);
+  FrameLoop loop(FrameLoopConfig{240.0, 2'000'000, true}, clock);
+
+  loop.run(30, work);  // warm-up: first draws size the compositor's buffers
+  work.counting = true;
+  g_allocations = 0;
+  loop.run(300, work);
+  work.counting = false;
+  const uint64_t allocations = g_allocations.load();
+  // The HUD line is formatted every frame in the windowed station: it must not allocate either.
+  t_counting = true;
+  const auto hud = latency.hud_line();
+  t_counting = false;
+  camera.stop();
+  pose.stop();
+
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_EQ(g_allocations.load(), 0u) << hud;
+  // The loop really ran the pipeline: frames drawn, poses consumed, video fetched.
+  EXPECT_EQ(frame.rows().size(), 330u);
+  EXPECT_EQ(compositor.stats().frames_drawn, 660u);  // two eyes per frame
+  EXPECT_GT(frame.pose_history().accepted(), 100u);
+  EXPECT_GT(frame.frames_fetched()[0], 20u);
+  EXPECT_EQ(latency.total_recorded(), 330u);
+  int video = 0, synthetic = 0;
+  for (const FrameRow& r : frame.rows()) {
+    video += r.variant == core::Variant::kVideo;
+    synthetic += r.variant == core::Variant::kSynthetic;
+  }
+  EXPECT_GT(video, 0);
+  EXPECT_GT(synthetic, 0);
+}
+
+}  // namespace
+}  // namespace hd::render
