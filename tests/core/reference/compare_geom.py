@@ -723,6 +723,36 @@ def self_test():
     T.expect(inside_total >= 1000, f"too few samples inside W ({inside_total}) for the support test")
     print(f"W support test: {inside_total} samples inside W over {checked} scenarios")
 
+    # 7c. Moving the whole rig rigidly changes nothing: E at the moved points, coverage and the
+    #     region under any rotation G and shift g; E_max too under a pure shift (the box stays
+    #     axis-aligned only then).
+    for k in range(15):
+        s = random_scenario(rng)
+        G = rodrigues([rng.gauss(0, 1) for _ in range(3)], rng.uniform(0, 3))
+        g = [rng.uniform(-3, 3) for _ in range(3)]
+        move = lambda P: [sum(G[i][j] * P[j] for j in range(3)) + g[i] for i in range(3)]  # noqa: E731
+        m = json.loads(json.dumps(s))
+        for c in ("real", "virtual"):
+            R = [s[c]["R"][3 * i:3 * i + 3] for i in range(3)]
+            m[c]["R"] = flat(_matmul(G, R))
+            m[c]["t"] = move(s[c]["t"])
+        m["points"] = [move(P) for P in s["points"]]
+        a, b = ev(s), ev(m)
+        for i, (ea, eb) in enumerate(zip(a["E"], b["E"])):
+            T.expect((ea is None) == (eb is None) and (ea is None or abs(ea - eb) <= 1e-7 * max(ea, 1.0)),
+                     f"rigid motion #{k}: E[{i}] {ea} vs {eb}")
+        T.near(a["coverage"], b["coverage"], 1e-9, f"rigid motion #{k}: coverage")
+        T.expect((a["update_region"] is None) == (b["update_region"] is None) and (
+            a["update_region"] is None or max(abs(x - y) for x, y in zip(a["update_region"], b["update_region"])) < 1e-6),
+            f"rigid motion #{k}: region {a['update_region']} vs {b['update_region']}")
+        shifted = json.loads(json.dumps(s))
+        for c in ("real", "virtual"):
+            shifted[c]["t"] = [s[c]["t"][i] + g[i] for i in range(3)]
+        shifted["workspace"] = {key: [s["workspace"][key][i] + g[i] for i in range(3)] for key in ("min", "max")}
+        ea, eb = a["E_max"], ev(shifted)["E_max"]
+        T.expect((ea is None) == (eb is None) and (ea is None or abs(ea - eb) <= 1e-7 * max(ea, 1.0)),
+                 f"rigid shift #{k}: E_max {ea} vs {eb}")
+
     # 8. Empty W: E_max = 0.
     r = ev(scenario(ws={"min": [-0.5, -0.5, -1.0], "max": [0.5, 0.5, -0.2]}))
     T.expect(r["E_max"] == 0.0 and r["m"] == 0.0, f"empty W: E_max {r['E_max']}, m {r['m']}")
