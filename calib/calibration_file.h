@@ -1,0 +1,66 @@
+#pragma once
+// The calibration file the station and hybrid-geom read: OpenCV FileStorage YAML with the keys of
+// OpenCV's calibration sample, plus our quality figures and (after `pose`) the camera pose.
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "calib/board.h"
+#include "calib/coverage.h"
+#include "calib/cross_validation.h"
+#include "calib/intrinsics_calibration.h"
+#include "calib/quality_warnings.h"
+#include "core/pinhole.h"
+#include "core/pose.h"
+
+namespace hd::calib {
+
+/// A file that is missing, unparsable or lacks/garbles a key. The message names file and key.
+class CalibrationFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct CalibrationFile {
+  core::Pinhole pinhole;
+  std::optional<core::Pose> camera_pose;  ///< T_world_cam, present after `hybrid-calib pose`
+  double avg_reprojection_error_px = 0.0;
+  std::vector<std::string> warnings;
+};
+
+/// Reads camera_matrix, distortion_coefficients (4, 5 or 8 terms), image_width, image_height and,
+/// if present, camera_pose_R / camera_pose_t (both or neither; R must be a rotation).
+CalibrationFile read_calibration_file(const std::filesystem::path& path);
+
+struct IntrinsicsReport {
+  IntrinsicsResult result;
+  Board board;
+  std::string model_name;
+  Coverage coverage;
+  CrossValidation cross_validation;
+  std::vector<Warning> warnings;
+};
+
+/// The YAML text of an intrinsics calibration.
+std::string intrinsics_yaml(const IntrinsicsReport& report);
+
+struct PoseReport {
+  core::Pinhole pinhole;
+  core::Pose camera_pose;  ///< T_world_cam
+  double reprojection_rms_px = 0.0;
+  std::string cue;  ///< how the board's symmetric ambiguity was resolved
+  std::string intrinsics_file, image_file;
+  Board board;
+  core::Pose board_pose;  ///< T_world_board as given
+};
+
+/// The YAML text of a pose calibration: the intrinsics it used plus camera_pose_R/_t.
+std::string pose_yaml(const PoseReport& report);
+
+/// ROS camera_info YAML (camera_calibration_parsers' format) for an intrinsics result.
+std::string ros_camera_info_yaml(const IntrinsicsResult& r, const std::string& camera_name);
+
+}  // namespace hd::calib

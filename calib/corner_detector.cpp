@@ -1,0 +1,93 @@
+#include "calib/corner_detector.h"
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <thread>
+
+namespace hd::calib {
+
+namespace {
+
+Detection run_detection(const cv::Mat& gray, const Board& board, const DetectorOptions& opt) {
+  Detection d;
+  const auto t0 = std::chrono::steady_clock::now();
+  bool found = false;
+  if (opt.use_classic) {
+    found = cv::findChessboardCorners(
+        gray, board.pattern(), d.corners,
+        cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK);
+    if (found && opt.refinement != Refinement::kNone) {
+      // "11x11" is cornerSubPix's winSize as OpenCV's calibration samples pass it: the HALF
+      // size, i.e. a 23x23 search window (the published reference figures used it).
+      const int win = opt.refinement == Refinement::kSubPix11 ? 11 : 5;
+      cv::cornerSubPix(gray, d.corners, cv::Size(win, win), cv::Size(-1, -1),
+                       cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 1e-4));
+    }
+  }
+  if (!found && opt.use_sb_fallback) {
+    // SB localises corners itself (sub-pixel by design); refining again with cornerSubPix would
+    // only mix two estimators, so its corners are kept as they are.
+    d.corners.clear();
+    found = cv::findChessboardCornersSB(
+        gray, board.pattern(), d.corners,
+        cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY);
+    d.by_sb = found;
+  }
+  if (found && static_cast<int>(d.corners.size()) != board.corner_count()) found = false;
+  d.status = found ? DetectionStatus::kFound : DetectionStatus::kNotFound;
+  if (!found) d.corners.clear();
+  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return d;
+}
+
+// Shared between the caller and a worker that may outlive the call.
+struct Job {
+  std::mutex m;
+  std::condition_variable cv;
+  bool done = false;
+  Detection result;
+};
+
+}  // namespace
+
+std::string Detection::describe() const {
+  switch (status) {
+    case DetectionStatus::kFound:
+      return by_sb ? "board found (SB fallback)" : "board found";
+    case DetectionStatus::kNotFound:
+      return "no board";
+    case DetectionStatus::kTimedOut:
+      return "detection timed out, skipped";
+  }
+  return "?";
+}
+
+Detection detect_corners(const cv::Mat& gray, const Board& board, const DetectorOptions& opt) {
+  CV_Assert(gray.type() == CV_8UC1);
+  auto job = std::make_shared<Job>();
+  cv::Mat image = gray.clone();  // the worker may outlive the caller's buffer
+  std::thread worker([job, image, board, opt] {
+    Detection d = run_detection(image, board, opt);
+    std::lock_guard lock(job->m);
+    job->result = std::move(d);
+    job->done = true;
+    job->cv.notify_all();
+  });
+  std::unique_lock lock(job->m);
+  if (job->cv.wait_for(lock, opt.timeout, [&] { return job->done; })) {
+    lock.unlock();
+    worker.join();
+    return std::move(job->result);
+  }
+  lock.unlock();
+  worker.detach();  // OpenCV offers no cancellation; the worker ends on its own.
+  Detection d;
+  d.status = DetectionStatus::kTimedOut;
+  d.seconds = std::chrono::duration<double>(opt.timeout).count();
+  return d;
+}
+
+}  // namespace hd::calib

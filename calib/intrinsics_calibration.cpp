@@ -1,0 +1,73 @@
+#include "calib/intrinsics_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <opencv2/calib3d.hpp>
+#include <stdexcept>
+
+namespace hd::calib {
+
+IntrinsicsResult calibrate_intrinsics(const std::vector<View>& views, const Board& board,
+                                      cv::Size image_size, const DistortionModel& model) {
+  if (views.size() < 3)
+    throw std::runtime_error("calibration needs at least 3 views with the board found, got " +
+                             std::to_string(views.size()));
+  const auto obj = board.object_points();
+  std::vector<std::vector<cv::Point3f>> object_points(views.size(), obj);
+  std::vector<std::vector<cv::Point2f>> image_points;
+  for (const auto& v : views) image_points.push_back(v.corners);
+
+  IntrinsicsResult r;
+  r.image_size = image_size;
+  r.flags = model.cv_flags();
+  cv::Mat K = cv::Mat::eye(3, 3, CV_64F);  // aspect 1 is the start (and the fixed value) of fx/fy
+  cv::Mat D;
+  std::vector<cv::Mat> rvecs, tvecs;
+  cv::Mat std_extr, per_view;
+  r.rms_px = cv::calibrateCamera(  // the "Extended" overload with std devs and per-view errors
+
+      object_points, image_points, image_size, K, D, rvecs, tvecs, r.std_dev_intrinsics, std_extr,
+      per_view, r.flags,
+      cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, DBL_EPSILON));
+  r.camera_matrix = cv::Matx33d(K);
+  const int n_dist = model.terms == DistortionModel::Terms::rational8 ? 8 : 5;
+  r.distortion = D.reshape(1, 1).colRange(0, n_dist).clone();
+  r.std_dev_intrinsics = r.std_dev_intrinsics.reshape(1, 1).colRange(0, 4 + n_dist).clone();
+  // With a fixed aspect OpenCV estimates fy alone and reports sigma(fx) = 0; fx = fy then shares
+  // fy's uncertainty.
+  if (model.fix_aspect && r.std_dev_intrinsics.at<double>(0, 0) == 0.0)
+    r.std_dev_intrinsics.at<double>(0, 0) = r.std_dev_intrinsics.at<double>(0, 1);
+
+  std::vector<double> rms;
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    ViewResult vr;
+    vr.name = views[i].name;
+    vr.rvec = cv::Vec3d(rvecs[i]);
+    vr.tvec = cv::Vec3d(tvecs[i]);
+    std::vector<cv::Point2f> proj;
+    cv::projectPoints(obj, rvecs[i], tvecs[i], K, D, proj);
+    double sum = 0;
+    for (std::size_t j = 0; j < proj.size(); ++j) {
+      const cv::Point2f e = views[i].corners[j] - proj[j];
+      vr.residuals_px.push_back(e);
+      sum += e.dot(e);
+    }
+    vr.rms_px = std::sqrt(sum / static_cast<double>(proj.size()));
+    rms.push_back(vr.rms_px);
+    r.views.push_back(std::move(vr));
+  }
+  std::vector<double> sorted = rms;
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t n = sorted.size();
+  const double median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  const double mean = std::accumulate(rms.begin(), rms.end(), 0.0) / static_cast<double>(n);
+  double var = 0;
+  for (double x : rms) var += (x - mean) * (x - mean);
+  const double sd = std::sqrt(var / static_cast<double>(n));
+  for (auto& v : r.views) v.outlier = v.rms_px > 2.0 * median || v.rms_px > mean + 3.0 * sd;
+  r.worst_view = static_cast<int>(std::max_element(rms.begin(), rms.end()) - rms.begin());
+  return r;
+}
+
+}  // namespace hd::calib

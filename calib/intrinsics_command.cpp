@@ -1,0 +1,186 @@
+// `hybrid-calib intrinsics`: folder (or live camera) -> calibration file, report, warnings.
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "calib/atomic_file.h"
+#include "calib/calibration_file.h"
+#include "calib/commands.h"
+#include "calib/corner_detector.h"
+#include "calib/image_set.h"
+#include "calib/intrinsics_assessment.h"
+#include "calib/report_image.h"
+
+namespace hd::calib {
+
+namespace {
+
+struct Args {
+  std::string images, pattern = "*", camera, board = "", out, report, ros, model = "5";
+  double square_m = 0;
+  bool fix_aspect = false, force = false;
+  double timeout_s = 5.0;
+};
+
+void print_summary(const IntrinsicsReport& rep) {
+  const auto& r = rep.result;
+  std::printf("calibrated %zu views, model %s, image %dx%d\n", r.views.size(),
+              rep.model_name.c_str(), r.image_size.width, r.image_size.height);
+  std::printf("  RMS %.4f px\n", r.rms_px);
+  std::printf("  fx %.3f +- %.3f  fy %.3f +- %.3f\n", r.fx(), r.sigma(0), r.fy(), r.sigma(1));
+  std::printf("  cx %.3f +- %.3f  cy %.3f +- %.3f\n", r.cx(), r.sigma(2), r.cy(), r.sigma(3));
+  std::printf("  distortion");
+  for (int i = 0; i < r.distortion.cols; ++i)
+    std::printf(" %.5g+-%.2g", r.distortion.at<double>(0, i), r.sigma(4 + i));
+  std::printf("\n  per view:");
+  for (const auto& v : r.views)
+    std::printf(" %s %.3f%s", v.name.c_str(), v.rms_px, v.outlier ? " (OUTLIER)" : "");
+  const auto& worst = r.views[static_cast<std::size_t>(r.worst_view)];
+  std::printf("\n  worst view: %s (%.3f px)\n", worst.name.c_str(), worst.rms_px);
+  if (rep.cross_validation.computed)
+    std::printf(
+        "  cross-validation (%d vs %d views): inside the covered area max %.3f px, RMS "
+        "%.3f px; whole image max %.3f px, RMS %.3f px\n",
+        rep.cross_validation.views_a, rep.cross_validation.views_b,
+        rep.cross_validation.covered_max_px, rep.cross_validation.covered_rms_px,
+        rep.cross_validation.max_px, rep.cross_validation.rms_px);
+  const auto& c = rep.coverage;
+  std::printf(
+      "  coverage: hull %.0f%% of the image, %.0f%% of 8x6 cells, board size %.0f-%.0f%%, "
+      "tilt %.0f-%.0f deg\n",
+      100 * c.hull_fraction, 100 * c.grid_fraction, 100 * c.board_size_min, 100 * c.board_size_max,
+      c.tilt_min_deg, c.tilt_max_deg);
+  for (const auto& w : rep.warnings)
+    std::printf("WARNING [%s] %s\n", w.code.c_str(), w.message.c_str());
+}
+
+int run(const Args& a) {
+  Board board;
+  DistortionModel model;
+  try {
+    board = Board::parse(a.board, a.square_m);
+    model = DistortionModel::parse(a.model);
+    if (a.fix_aspect) model.fix_aspect = true;
+    if (!(a.timeout_s > 0)) throw std::invalid_argument("--timeout must be > 0 seconds");
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kBadInput;
+  }
+  try {
+    check_output_free(a.out, a.force);
+    if (!a.report.empty()) check_output_free(a.report, a.force);
+    if (!a.ros.empty()) check_output_free(a.ros, a.force);
+  } catch (const OutputExists& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kOutputExists;
+  }
+  if (!a.camera.empty()) {
+    std::fprintf(stderr,
+                 "error: --camera %s: live capture needs a camera driver (drivers/v4l2, "
+                 "drivers/gige), and none is built into this hybrid-calib\n",
+                 a.camera.c_str());
+    return kBadInput;
+  }
+  std::vector<NamedImage> images;
+  try {
+    images = load_image_set(a.images, a.pattern);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kBadInput;
+  }
+  DetectorOptions det_opt;
+  det_opt.timeout = std::chrono::milliseconds(static_cast<long>(a.timeout_s * 1000));
+  std::vector<View> views;
+  cv::Mat background;
+  const std::size_t n = images.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Detection d = detect_corners(images[i].gray, board, det_opt);
+    std::printf("[%zu/%zu] %s: %s (%.0f ms)\n", i + 1, n, images[i].name.c_str(),
+                d.describe().c_str(), 1000 * d.seconds);
+    std::fflush(stdout);
+    if (d.found()) {
+      views.push_back({images[i].name, d.corners});
+      if (background.empty()) background = images[i].gray;
+    }
+  }
+  if (views.empty()) {
+    std::fprintf(stderr,
+                 "error: no %dx%d board found in any of the %zu images in %s (is --board the "
+                 "number of INNER corners, columns x rows?)\n",
+                 board.cols, board.rows, n, a.images.c_str());
+    return kFailed;
+  }
+  if (views.size() < 3) {
+    std::fprintf(stderr, "error: the board was found in only %zu of %zu images in %s; need >= 3\n",
+                 views.size(), n, a.images.c_str());
+    return kFailed;
+  }
+  IntrinsicsReport rep;
+  try {
+    rep = assess_intrinsics(views, board, images.front().gray.size(), model);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: calibration failed: %s\n", e.what());
+    return kFailed;
+  }
+  print_summary(rep);
+  try {
+    write_file_atomically(a.out, intrinsics_yaml(rep), a.force);
+    std::printf("wrote %s\n", a.out.c_str());
+    if (!a.ros.empty()) {
+      write_file_atomically(a.ros, ros_camera_info_yaml(rep.result, "camera"), a.force);
+      std::printf("wrote %s (ROS camera_info)\n", a.ros.c_str());
+    }
+    if (!a.report.empty()) {
+      std::vector<uchar> png;
+      cv::imencode(".png", render_report(background, views, rep.result, rep.coverage), png);
+      write_file_atomically(a.report, std::string(png.begin(), png.end()), a.force);
+      std::printf("wrote %s (report picture)\n", a.report.c_str());
+    }
+  } catch (const OutputExists& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kOutputExists;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kWriteError;
+  }
+  return kOk;
+}
+
+}  // namespace
+
+void add_intrinsics_command(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("intrinsics", "estimate p_c (pinhole + distortion) from views");
+  auto* src = cmd->add_option("--images", args->images, "folder of chessboard images");
+  cmd->add_option("--pattern", args->pattern, "only files whose name matches, e.g. 'left*'")
+      ->capture_default_str();
+  auto* cam = cmd->add_option("--camera", args->camera, "live camera id (needs a driver)");
+  src->excludes(cam);
+  cmd->add_option("--board", args->board, "inner corners COLSxROWS, e.g. 9x6")->required();
+  cmd->add_option("--square", args->square_m, "square size in metres, e.g. 0.025")->required();
+  cmd->add_option("--out", args->out, "calibration file (OpenCV FileStorage YAML)")->required();
+  cmd->add_option("--model", args->model,
+                  "distortion model: 5 | 8 | rational | fix-k3 | fix-aspect")
+      ->capture_default_str();
+  cmd->add_flag("--fix-aspect", args->fix_aspect, "fix fx/fy = 1 (CALIB_FIX_ASPECT_RATIO)");
+  cmd->add_option("--report", args->report, "report picture (PNG)");
+  cmd->add_option("--ros", args->ros, "also write ROS camera_info YAML");
+  cmd->add_option("--timeout", args->timeout_s, "per-image detection deadline, seconds")
+      ->capture_default_str();
+  cmd->add_flag("--force", args->force, "replace existing outputs (old ones kept as .bak)");
+  cmd->footer(
+      "Example:\n  hybrid-calib intrinsics --images data/calib/opencv-left --board 9x6 "
+      "--square 0.025 --pattern 'left*' --fix-aspect --out left.yml --report left.png");
+  cmd->callback([args, cmd, &exit_code] {
+    if (args->images.empty() && args->camera.empty()) {
+      std::fprintf(stderr, "error: give --images DIR or --camera ID\n");
+      exit_code = kBadInput;
+      return;
+    }
+    exit_code = run(*args);
+    (void)cmd;
+  });
+}
+
+}  // namespace hd::calib
