@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Agreement test: `hybrid-geom` against the independent reference in reference_geom.py.
 
-  compare_geom.py PATH/TO/hybrid-geom   run ~300 random + ~45 hard scenarios through both, compare
+  compare_geom.py PATH/TO/hybrid-geom   run 300 random, 60 exact-tie, 40 near-degenerate and 49 named
+                                        hard scenarios through both (one JSON array), compare
   compare_geom.py --self-test           check the reference itself on closed forms and on
                                         independent numerical methods (raster, direct projection)
   compare_geom.py --dump FILE           write the scenario array (to replay by hand)
+  compare_geom.py --mutation-check      show the scenario set catches plausible mistakes (~1 min)
 
 Tolerances (issue #2 "Done when"): E, E_max, m relative 1e-6 with an absolute floor of 1e-9
 (|a - b| <= 1e-6 * max(|a|, |b|) + 1e-9, so values that are 0 up to rounding compare equal);
@@ -841,9 +843,76 @@ def self_test():
     return 1 if T.failures else 0
 
 
+def mutation_check():
+    """Is the scenario set sharp enough? Plausible mistakes (the paper's printed formulas, a
+    missing plane, a different 'in front' test) are patched into the reference one at a time;
+    each must produce mismatches against the unpatched reference. Not a ctest (about a minute)."""
+    named = all_scenarios()
+    want = [ref.evaluate(ref.parse_scenario(s)) for _, s in named]
+
+    def front_above_zero(sc, X, query):
+        pc, po = sc.real.to_camera(X), sc.virtual.to_camera(X)
+        if query and (pc[2] <= sc.near or po[2] <= sc.near):
+            return None
+        c = sc.virtual.to_camera(sc.real.t)
+        s = sc.d / pc[2]
+        z2 = c[2] + s * (po[2] - c[2])
+        if z2 <= 0:
+            return math.inf
+        k = (1 - s) / (po[2] * z2)
+        return math.hypot(float(sc.virtual.fx * k * (po[0] * c[2] - c[0] * po[2])),
+                          float(sc.virtual.fy * k * (po[1] * c[2] - c[1] * po[2])))
+
+    def printed_corner(x, y, W, H, k):
+        if k == 0:
+            return 1.0
+        xp, yp = abs(1 - 2 * x / W), abs(1 - 2 * y / H)
+        if xp <= 1 - k and yp <= 1 - k:
+            w = 1.0
+        elif yp <= 1 - k:
+            w = (1 - xp) / k
+        elif xp <= 1 - k:
+            w = (1 - yp) / k
+        else:
+            w = 1 - math.sqrt((k - 1 - xp) ** 2 + (k - 1 - yp) ** 2) / k
+        w = min(max(w, 0.0), 1.0)
+        return (math.sin((w - 0.5) * math.pi) + 1) / 2
+
+    def printed_w1(m, m_t, eps):
+        if m == math.inf:
+            return 0.0
+        if eps == 0:
+            return 1.0 if m <= m_t else 0.0
+        return min(max((m - m_t + eps) / (2 * eps), 0.0), 1.0)
+
+    planes = ref._w_planes
+    emax = ref.e_max
+    mutants = [
+        ("X'' in front when z'' > 0", "_error_exact", front_above_zero),
+        ("W without the real near plane", "_w_planes", lambda sc: planes(sc)[:5] + planes(sc)[6:]),
+        ("E_max ignores infinite vertices", "e_max", lambda sc: (lambda v: 0.0 if v == math.inf else v)(emax(sc))),
+        ("w2 with the paper's printed corner term", "w2", printed_corner),
+        ("the paper's printed w1 (sign reversed)", "w_video", printed_w1),
+    ]
+    missed = 0
+    for what, attr, patch in mutants:
+        saved = getattr(ref, attr)
+        setattr(ref, attr, patch)
+        try:
+            got = [ref.evaluate(ref.parse_scenario(s)) for _, s in named]
+        finally:
+            setattr(ref, attr, saved)
+        n = len(compare(named, got, want)[1])
+        missed += n == 0
+        print(f"mutant '{what}': {n} mismatching fields")
+    return 1 if missed else 0
+
+
 def main(argv):
     if len(argv) == 2 and argv[1] == "--self-test":
         return self_test()
+    if len(argv) == 2 and argv[1] == "--mutation-check":
+        return mutation_check()
     if len(argv) == 3 and argv[1] == "--dump":
         with open(argv[2], "w", encoding="utf-8") as f:
             json.dump([s for _, s in all_scenarios()], f, indent=1, allow_nan=False)
