@@ -188,8 +188,10 @@ void V4l2Camera::open_stream(bool reopening) {
     prototype.allocate_rgba(w, h);
     mailbox_ = std::make_unique<Mailbox<Frame>>(prototype);
   }
-  modes_ = std::move(modes);
-  chosen_ = chosen;
+  if (!reopening) {  // the consumer may read these while the capture thread reopens
+    modes_ = std::move(modes);
+    chosen_ = chosen;
+  }
   bytes_per_line_ = bytes_per_line;
   size_image_ = pix.sizeimage;
   buffers_ = std::move(buffers);

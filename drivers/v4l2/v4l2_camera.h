@@ -51,7 +51,7 @@ class V4l2Camera final : public CameraSource {
   uint64_t dropped_frames() const override { return dropped_.load(std::memory_order_relaxed); }
   Mailbox<Frame>& frames() override { return *mailbox_; }
 
-  /// The negotiated mode (after open()).
+  /// The negotiated mode (after open(); a reopen must match it).
   const V4l2ModeChoice& mode() const { return chosen_; }
   /// Everything the device offered at the last open().
   const std::vector<V4l2Mode>& offered_modes() const { return modes_; }
