@@ -243,6 +243,7 @@ GigeStats GigeCamera::stats() const {
   s.late_or_duplicate = late_.load(std::memory_order_relaxed);
   s.malformed = malformed_.load(std::memory_order_relaxed);
   s.liveness_probes = probes_.load(std::memory_order_relaxed);
+  s.last_bad_status = last_bad_status_.load(std::memory_order_relaxed);
   return s;
 }
 
@@ -276,8 +277,13 @@ void GigeCamera::stream_loop() {
 }
 
 void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
-  if (arv_buffer_get_status(buffer) != ARV_BUFFER_STATUS_SUCCESS) {
+  if (const ArvBufferStatus status = arv_buffer_get_status(buffer);
+      status != ARV_BUFFER_STATUS_SUCCESS) {
+    // The frame is lost, but its id is known: feed it, so the next frame shows no gap and the
+    // loss is counted once.
+    unwrapper_.update(arv_buffer_get_frame_id(buffer));
     bad_buffers_.fetch_add(1, std::memory_order_relaxed);
+    last_bad_status_.store(static_cast<int>(status), std::memory_order_relaxed);
     return;
   }
   if (arv_buffer_get_payload_type(buffer) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE ||

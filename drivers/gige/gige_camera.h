@@ -34,6 +34,7 @@ struct GigeStats {
   uint64_t late_or_duplicate = 0;  ///< ids at or before the newest one, skipped
   uint64_t malformed = 0;          ///< wrong size / format / payload type, skipped
   uint64_t liveness_probes = 0;
+  int last_bad_status = 0;  ///< ArvBufferStatus of the newest bad buffer (0 = none yet)
 };
 
 /// Streams one GigE camera: open() negotiates region, pixel format, frame rate and packet size
@@ -114,6 +115,7 @@ class GigeCamera final : public CameraSource {
   std::atomic<uint64_t> late_{0};
   std::atomic<uint64_t> malformed_{0};
   std::atomic<uint64_t> probes_{0};
+  std::atomic<int> last_bad_status_{0};
   SpscRing<GigeHandoffTiming, 1024> timings_;
 };
 

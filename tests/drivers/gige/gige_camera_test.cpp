@@ -151,7 +151,7 @@ TEST(GigeCamera, NoFrameLostAt60FpsOver10Seconds) {
   EXPECT_GE(s.frames_published, 300u);
   EXPECT_EQ(last - first + 1, timings);
   EXPECT_EQ(cam.dropped_frames(), 0u);
-  EXPECT_EQ(s.bad_buffers, 0u);
+  EXPECT_EQ(s.bad_buffers, 0u) << "last bad ArvBufferStatus " << s.last_bad_status;
   EXPECT_EQ(s.malformed, 0u);
   EXPECT_EQ(s.late_or_duplicate, 0u);
 }
