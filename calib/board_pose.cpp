@@ -95,14 +95,21 @@ PoseResult estimate_camera_pose(const cv::Mat& gray, const Board& board,
     if (!square && turn % 2 == 1) continue;
     auto pts = relabel(det.corners, board.cols, board.rows, turn);
     std::vector<cv::Mat> rvecs, tvecs;
-    std::vector<double> errs;
-    cv::solvePnPGeneric(obj, pts, K, D, rvecs, tvecs, false, cv::SOLVEPNP_IPPE, cv::noArray(),
-                        cv::noArray(), errs);
+    cv::solvePnPGeneric(obj, pts, K, D, rvecs, tvecs, false, cv::SOLVEPNP_IPPE);
     if (rvecs.empty()) continue;
-    // IPPE returns the planar pose pair sorted by error; the first one is the fit.
+    // IPPE returns the planar pose pair sorted by error; the first one is the fit. Its error is
+    // recomputed per point (OpenCV's figure is per coordinate, sqrt(2) smaller) so it compares
+    // with calibrate's per-view RMS.
     PoseCandidate c;
     c.turn_deg = 90 * turn;
-    c.rms_px = errs.empty() ? 0.0 : errs[0];
+    std::vector<cv::Point2f> proj;
+    cv::projectPoints(obj, rvecs[0], tvecs[0], K, D, proj);
+    double sum = 0;
+    for (std::size_t i = 0; i < proj.size(); ++i) {
+      const cv::Point2f e = proj[i] - pts[i];
+      sum += e.dot(e);
+    }
+    c.rms_px = std::sqrt(sum / static_cast<double>(proj.size()));
     const core::Pose T_cam_board = to_pose(cv::Vec3d(rvecs[0]), cv::Vec3d(tvecs[0]));
     c.camera_pose = T_world_board * T_cam_board.inverse();
     // Colour of the first inner square vs the square beside it along the first row.
