@@ -1,7 +1,9 @@
 #include "render/compositor/cpu_compositor.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 #include "core/blend_weights.h"
 #include "render/compositor/request_check.h"
@@ -9,6 +11,19 @@
 namespace hd::render {
 
 namespace {
+
+static_assert(std::endian::native == std::endian::little, "packed RGBA assumes little-endian");
+
+// Lerps two packed RGBA8 pixels by f/256, two channels per multiply (lanes cannot overflow:
+// 255 * 256 + 128 < 65536), rounded.
+inline uint32_t lerp_rgba(uint32_t a, uint32_t b, int f) {
+  const uint32_t g = static_cast<uint32_t>(f), h = 256u - g;
+  const uint32_t rb =
+      ((((a & 0x00FF00FFu) * h + (b & 0x00FF00FFu) * g) + 0x00800080u) >> 8) & 0x00FF00FFu;
+  const uint32_t ga =
+      ((((a >> 8) & 0x00FF00FFu) * h + ((b >> 8) & 0x00FF00FFu) * g) + 0x00800080u) & 0xFF00FF00u;
+  return rb | ga;
+}
 
 const SyntheticScene& empty_scene() {
   static const SyntheticScene scene;
@@ -51,6 +66,7 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   if (inv_depth_.size() != n) {  // first frame, or a new viewport size
     inv_depth_.assign(n, 0.0f);
     synth_rgba_.assign(4 * n, 0);
+    scratch_.assign(2 * 3 * static_cast<std::size_t>(req.viewport.width), 0.0f);
   }
   req_ = &req;
   out_ = &out;
@@ -119,20 +135,87 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
   const bool nearest = req.sampling == VideoSampling::kNearest;
   const double inv_near = 1.0 / req.near_m;
   const Eigen::Matrix3d& H = warp_.H;
+
   const Eigen::Vector3d& q = warp_.inv_depth;
+
+  // Per-thread row scratch: where each pixel samples the frame and with what weight.
+  float* su = scratch_.data() + (row_begin == 0 ? 0 : 3 * static_cast<std::size_t>(W));
+  float* sv = su + W;
+  float* sa = sv + W;
+  const float wv = static_cast<float>(w_video);
 
   for (int y = row_begin; y < row_end; ++y) {
     const uint8_t* srow = synth_rgba_.data() + static_cast<long>(y) * W * 4;
     const float* drow = inv_depth_.data() + static_cast<long>(y) * W;
     uint8_t* orow = out_->pixel(req.viewport.x, req.viewport.y + y);
-    // Homography and inverse depth at this row's first pixel centre, stepped along x.
-    const double pv = y + 0.5;
-    double hx = H(0, 0) * 0.5 + H(0, 1) * pv + H(0, 2);
-    double hy = H(1, 0) * 0.5 + H(1, 1) * pv + H(1, 2);
-    double hw = H(2, 0) * 0.5 + H(2, 1) * pv + H(2, 2);
-    double iz = q(0) * 0.5 + q(1) * pv + q(2);
+    if (any_video) {
+      // Pass A (branch-free, so the compiler vectorises it): the homography at every pixel
+      // centre of the row, the in-front and inside-the-frame tests.
+      const double pv = y + 0.5;
+      const double bx = H(0, 1) * pv + H(0, 2), by = H(1, 1) * pv + H(1, 2);
+      const double bw = H(2, 1) * pv + H(2, 2), bz = q(1) * pv + q(2);
+      const double h00 = H(0, 0), h10 = H(1, 0), h20 = H(2, 0), q0 = q(0);
+      for (int x = 0; x < W; ++x) {
+        const double px = x + 0.5;
+        const double iz = q0 * px + bz;
+        const double inv_hw = 1.0 / (h20 * px + bw);
+        const double u = (h00 * px + bx) * inv_hw;
+        const double w = (h10 * px + by) * inv_hw;
+        const bool in = iz > 0.0 && iz <= inv_near && u >= 0.0 && u <= vwd && w >= 0.0 && w <= vhd;
+        su[x] = in ? static_cast<float>(u) : 0.0f;
+        sv[x] = in ? static_cast<float>(w) : 0.0f;
+        sa[x] = in ? wv : 0.0f;
+      }
+      if (per_pixel) {
+        // Inside the inner rectangle |1 - 2u/W| <= 1 - kappa' the continuous weight is exactly
+        // its strength min(1, 2 w); only the border band needs core's full formula.
+        for (int x = 0; x < W; ++x) {
+          if (sa[x] <= 0.0f) continue;
+          const double u = su[x], w = sv[x];
+          const double xr = std::abs(1.0 - 2.0 * u / vwd);
+          const double yr = std::abs(1.0 - 2.0 * w / vhd);
+          sa[x] = static_cast<float>((xr <= inner && yr <= inner)
+                                         ? strength
+                                         : core::continuous_pixel_weight(w_video, u, w, vwd, vhd));
+        }
+      }
+    }
     const int checker_row = y / cell;
-    for (int x = 0; x < W; ++x, hx += H(0, 0), hy += H(1, 0), hw += H(2, 0), iz += q(0)) {
+    for (int x = 0; x < W; ++x) {
+      const float a = any_video ? sa[x] : 0.0f;
+      uint8_t* o = orow + 4 * x;
+      uint32_t video = 0;  // RGBA bytes, little-endian packed
+      if (a > 0.0f) {
+        const float u = su[x], w = sv[x];
+        if (nearest) {
+          const int xi = std::min(static_cast<int>(u), vw - 1);
+          const int yi = std::min(static_cast<int>(w), vh - 1);
+          std::memcpy(&video, vdata + static_cast<long>(yi) * vstride + 4 * xi, 4);
+        } else {
+          // 8-bit fixed-point bilinear between texel centres, clamped to the edge texels; two
+          // channels per multiply. Rounding (not truncating) to 1/256 px keeps an exact texel
+          // centre exact; u, w >= 0, so the +256 offset keeps the truncated value positive.
+          const int X = static_cast<int>(u * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
+          const int Y = static_cast<int>(w * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
+          const int x0 = X >> 8, fx = X & 255;  // arithmetic shift: floor, also below 0
+          const int y0 = Y >> 8, fy = Y & 255;
+          const int xa = std::max(x0, 0), xb = std::min(x0 + 1, vw - 1);
+          const int ya = std::max(y0, 0), yb = std::min(y0 + 1, vh - 1);
+          const uint8_t* r0 = vdata + static_cast<long>(ya) * vstride;
+          const uint8_t* r1 = vdata + static_cast<long>(yb) * vstride;
+          uint32_t c00, c10, c01, c11;
+          std::memcpy(&c00, r0 + 4 * xa, 4);
+          std::memcpy(&c10, r0 + 4 * xb, 4);
+          std::memcpy(&c01, r1 + 4 * xa, 4);
+          std::memcpy(&c11, r1 + 4 * xb, 4);
+          video = lerp_rgba(lerp_rgba(c00, c10, fx), lerp_rgba(c01, c11, fx), fy);
+        }
+        if (a >= 1.0f) {  // pure video: no need for the model's colour
+          std::memcpy(o, &video, 4);
+          o[3] = 255;
+          continue;
+        }
+      }
       float s[3];
       if (drow[x] > 0.0f) {
         for (int c = 0; c < 3; ++c) s[c] = srow[4 * x + c];
@@ -146,52 +229,9 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
         const float step = ((x / cell + checker_row) & 1) ? -checker_step : checker_step;
         for (int c = 0; c < 3; ++c) s[c] = std::clamp(s[c] + step, 0.0f, 255.0f);
       }
-      float a = 0.0f;
-      float v[3] = {0.0f, 0.0f, 0.0f};
-      if (any_video && iz > 0.0 && iz <= inv_near) {
-        const double inv_hw = 1.0 / hw;
-        const double u = hx * inv_hw;
-        const double w = hy * inv_hw;
-        if (u >= 0.0 && u <= vwd && w >= 0.0 && w <= vhd) {
-          double weight = w_video;
-          if (per_pixel) {
-            const double xr = std::abs(1.0 - 2.0 * u / vwd);
-            const double yr = std::abs(1.0 - 2.0 * w / vhd);
-            weight = (xr <= inner && yr <= inner)
-                         ? strength
-                         : core::continuous_pixel_weight(w_video, u, w, vwd, vhd);
-          }
-          a = static_cast<float>(weight);
-          if (a > 0.0f) {
-            if (nearest) {
-              const int xi = std::min(static_cast<int>(u), vw - 1);
-              const int yi = std::min(static_cast<int>(w), vh - 1);
-              const uint8_t* p = vdata + static_cast<long>(yi) * vstride + 4 * xi;
-              for (int c = 0; c < 3; ++c) v[c] = p[c];
-            } else {
-              // 8-bit fixed-point bilinear between texel centres, clamped to the edge texels.
-              // Rounding (not truncating) to 1/256 px keeps an exact texel centre exact.
-              // u, w >= 0 here, so the +256 offset keeps the truncated value positive.
-              const int X = static_cast<int>(u * 256.0 + (256.0 - 128.0 + 0.5)) - 256;
-              const int Y = static_cast<int>(w * 256.0 + (256.0 - 128.0 + 0.5)) - 256;
-              const int x0 = X >> 8, fx = X & 255;  // arithmetic shift: floor, also below 0
-              const int y0 = Y >> 8, fy = Y & 255;
-              const int xa = std::max(x0, 0), xb = std::min(x0 + 1, vw - 1);
-              const int ya = std::max(y0, 0), yb = std::min(y0 + 1, vh - 1);
-              const uint8_t* r0 = vdata + static_cast<long>(ya) * vstride;
-              const uint8_t* r1 = vdata + static_cast<long>(yb) * vstride;
-              for (int c = 0; c < 3; ++c) {
-                const int top = r0[4 * xa + c] * (256 - fx) + r0[4 * xb + c] * fx;
-                const int bot = r1[4 * xa + c] * (256 - fx) + r1[4 * xb + c] * fx;
-                v[c] = static_cast<float>(top * (256 - fy) + bot * fy) * (1.0f / 65536.0f);
-              }
-            }
-          }
-        }
-      }
-      uint8_t* o = orow + 4 * x;
       for (int c = 0; c < 3; ++c) {
-        const float val = s[c] + a * (v[c] - s[c]);
+        const float v = static_cast<float>((video >> (8 * c)) & 255u);
+        const float val = s[c] + a * (v - s[c]);
         o[c] = static_cast<uint8_t>(std::clamp(val, 0.0f, 255.0f) + 0.5f);
       }
       o[3] = 255;

@@ -37,6 +37,7 @@ class CpuCompositor final : public Compositor {
   MeshRasterizer rasterizer_;
   std::vector<uint8_t> synth_rgba_;  ///< viewport-sized synthetic colour
   std::vector<float> inv_depth_;     ///< viewport-sized depth (1/z, 0 = empty)
+  std::vector<float> scratch_;       ///< per band: one row of sample u, v and video weight
   CompositorStats stats_;
 
   const CompositeRequest* req_ = nullptr;  ///< valid during draw only
