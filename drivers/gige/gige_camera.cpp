@@ -18,6 +18,7 @@ namespace hd::drivers {
 namespace {
 
 constexpr int64_t kPopTimeoutUs = 20'000;  // bounds how late stop() and stall checks react
+constexpr int64_t kReconnectPeriodNs = 500'000'000;  // how often a lost camera is looked for
 
 bool arv_format_for(PixelFormat f, ArvPixelFormat& out) {
   switch (f) {
@@ -180,9 +181,12 @@ void GigeCamera::open() {
     arv_stream_push_buffer(stream_.get(), arv_buffer_new(payload_bytes_, nullptr));
   }
 
-  Frame prototype;
-  prototype.allocate_rgba(w, h);
-  mailbox_ = std::make_unique<Mailbox<Frame>>(prototype);
+  // A reconnect to the same size keeps the mailbox, so the consumer's reference stays valid.
+  if (mailbox_->write_slot().width != w || mailbox_->write_slot().height != h) {
+    Frame prototype;
+    prototype.allocate_rgba(w, h);
+    mailbox_ = std::make_unique<Mailbox<Frame>>(prototype);
+  }
 
   control_lost_.store(false);
   control_lost_handler_ = g_signal_connect(arv_camera_get_device(cam), "control-lost",
@@ -200,6 +204,7 @@ void GigeCamera::start() {
   if (running_.load()) return;
   GErrorHolder error;
   unwrapper_.reset();
+  rebase_sequence_ = last_sequence_ != 0;  // a restart must not move the sequence backwards
   arv_camera_start_acquisition(camera_.get(), error.out());
   if (error) {
     throw DeviceError("GigE camera '" + config_.device_id +
@@ -222,13 +227,44 @@ void GigeCamera::stop() {
   if (state() != SourceState::kDisconnected) state_.store(SourceState::kClosed);
 }
 
-void GigeCamera::close() {
+void GigeCamera::retire() {
   if (camera_ && control_lost_handler_ != 0) {
     g_signal_handler_disconnect(arv_camera_get_device(camera_.get()), control_lost_handler_);
     control_lost_handler_ = 0;
   }
-  stream_.reset();  // releases the buffer pool with the stream
-  camera_.reset();
+  // Releasing a dead camera blocks for seconds (Aravis retries giving up control), so objects
+  // of a camera that went away wait here until close().
+  if (stream_) retired_streams_.push_back(std::move(stream_));
+  if (camera_) retired_cameras_.push_back(std::move(camera_));
+}
+
+void GigeCamera::close() {
+  retire();
+  retired_streams_.clear();  // releases each buffer pool with its stream
+  retired_cameras_.clear();
+}
+
+bool GigeCamera::reconnect() {
+  retire();
+  try {
+    open();
+  } catch (const DeviceError&) {
+    retire();
+    return false;
+  }
+  GErrorHolder error;
+  arv_camera_start_acquisition(camera_.get(), error.out());
+  if (error) {
+    retire();
+    return false;
+  }
+  unwrapper_.reset();
+  rebase_sequence_ = true;  // the camera's ids restarted; the consumer's sequence must not
+  clock_mapper_ = DeviceClockMapper(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000});
+  last_frame_ns_ = monotonic_now_ns();
+  reconnects_.fetch_add(1, std::memory_order_relaxed);
+  state_.store(SourceState::kStreaming, std::memory_order_release);
+  return true;
 }
 
 uint64_t GigeCamera::dropped_frames() const {
@@ -244,6 +280,7 @@ GigeStats GigeCamera::stats() const {
   s.malformed = malformed_.load(std::memory_order_relaxed);
   s.liveness_probes = probes_.load(std::memory_order_relaxed);
   s.last_bad_status = last_bad_status_.load(std::memory_order_relaxed);
+  s.reconnects = reconnects_.load(std::memory_order_relaxed);
   return s;
 }
 
@@ -256,7 +293,16 @@ void GigeCamera::stream_loop() {
       handle_buffer(buffer, now_ns);
       arv_stream_push_buffer(stream_.get(), buffer);  // back into the pool at once
     }
-    if (state() == SourceState::kDisconnected) continue;  // stays so until stop()
+    if (state() == SourceState::kDisconnected) {
+      // Reopen when the camera answers again (it was power-cycled, replugged or restarted).
+      if (now_ns - last_probe_ns_ >= kReconnectPeriodNs) {
+        last_probe_ns_ = now_ns;
+        if (probe.ping(config_.liveness_timeout_ns) == GvcpLivenessProbe::Answer::kAlive) {
+          reconnect();
+        }
+      }
+      continue;
+    }
     if (control_lost_.load(std::memory_order_acquire)) {
       state_.store(SourceState::kDisconnected, std::memory_order_release);
       continue;
@@ -337,7 +383,6 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
     return;
   }
   const uint64_t device_ns = arv_buffer_get_timestamp(buffer);
-  f.sequence = id.sequence;
   f.device_time_trusted = device_ns != 0;
   f.device_timestamp_ns = static_cast<int64_t>(device_ns);
   f.host_timestamp_ns =
@@ -345,10 +390,17 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
   // State first: a consumer that sees the new frame must also see the stream as live.
   last_frame_ns_ = popped_ns;
   if (state() == SourceState::kStalled) state_.store(SourceState::kStreaming);
+  if (rebase_sequence_) {
+    // Unsigned wrap-around arithmetic: the first frame after a reconnect follows the last one.
+    sequence_offset_ = last_sequence_ + 1 - id.sequence;
+    rebase_sequence_ = false;
+  }
+  f.sequence = id.sequence + sequence_offset_;
+  last_sequence_ = f.sequence;
   mailbox_->publish();
   const int64_t published_ns = monotonic_now_ns();
   frames_published_.fetch_add(1, std::memory_order_relaxed);
-  timings_.push(GigeHandoffTiming{id.sequence, arrival_ns, popped_ns, published_ns});
+  timings_.push(GigeHandoffTiming{last_sequence_, arrival_ns, popped_ns, published_ns});
 }
 
 }  // namespace hd::drivers

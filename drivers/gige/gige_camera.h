@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "drivers/camera_source.h"
 #include "drivers/clock/device_clock_mapper.h"
@@ -34,7 +35,9 @@ struct GigeStats {
   uint64_t late_or_duplicate = 0;  ///< ids at or before the newest one, skipped
   uint64_t malformed = 0;          ///< wrong size / format / payload type, skipped
   uint64_t liveness_probes = 0;
-  int last_bad_status = 0;  ///< ArvBufferStatus of the newest bad buffer (0 = none yet)
+  int last_bad_status = 0;
+  uint64_t reconnects = 0;  ///< times a lost camera answered again and streams anew  ///<
+                            ///< ArvBufferStatus of the newest bad buffer (0 = none yet)
 };
 
 /// Streams one GigE camera: open() negotiates region, pixel format, frame rate and packet size
@@ -47,6 +50,8 @@ struct GigeStats {
 ///
 /// Liveness: no frame for `stall_timeout_ns` makes the state kStalled and sends a GVCP probe;
 /// a refused or unanswered probe, or Aravis's "control-lost" signal, makes it kDisconnected.
+/// A disconnected camera is probed every 0.5 s and reopened (same configuration, same mailbox)
+/// when it answers; frame sequence numbers continue from the last frame before the loss.
 class GigeCamera final : public CameraSource {
  public:
   explicit GigeCamera(GigeConfig config);
@@ -78,6 +83,8 @@ class GigeCamera final : public CameraSource {
 
  private:
   void close();
+  void retire();
+  bool reconnect();
   void stream_loop();
   void handle_buffer(ArvBuffer* buffer, int64_t popped_ns);
   void check_liveness(int64_t now_ns);
@@ -86,6 +93,8 @@ class GigeCamera final : public CameraSource {
   GigeConfig config_;
   GObjectPtr<ArvCamera> camera_;
   GObjectPtr<ArvStream> stream_;
+  std::vector<GObjectPtr<ArvStream>> retired_streams_;
+  std::vector<GObjectPtr<ArvCamera>> retired_cameras_;
   gulong control_lost_handler_ = 0;
   std::unique_ptr<Mailbox<Frame>> mailbox_;
   std::string address_;
@@ -108,6 +117,9 @@ class GigeCamera final : public CameraSource {
   DeviceClockMapper clock_mapper_;
   int64_t last_frame_ns_ = 0;
   int64_t last_probe_ns_ = 0;
+  bool rebase_sequence_ = false;
+  uint64_t sequence_offset_ = 0;
+  uint64_t last_sequence_ = 0;
 
   std::atomic<uint64_t> frames_published_{0};
   std::atomic<uint64_t> bad_buffers_{0};
@@ -116,6 +128,7 @@ class GigeCamera final : public CameraSource {
   std::atomic<uint64_t> malformed_{0};
   std::atomic<uint64_t> probes_{0};
   std::atomic<int> last_bad_status_{0};
+  std::atomic<uint64_t> reconnects_{0};
   SpscRing<GigeHandoffTiming, 1024> timings_;
 };
 

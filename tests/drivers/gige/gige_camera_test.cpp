@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -205,6 +206,35 @@ TEST(GigeCamera, KilledCameraIsReportedDisconnectedWithinOneSecond) {
   EXPECT_EQ(cam.state(), SourceState::kDisconnected);
   std::printf("disconnect reported after %.0f ms; stop() took %.0f ms\n", took_ns / 1e6,
               (monotonic_now_ns() - stop_from_ns) / 1e6);
+}
+
+TEST(GigeCamera, CameraThatComesBackIsReopenedAndTheSequenceContinues) {
+  auto fake = std::make_unique<testing::FakeGigeCamera>();
+  GigeCamera cam(config(PixelFormat::kMono8, 160, 120, 30));
+  cam.start();
+  ASSERT_TRUE(next_frame(cam, 0));
+  Mailbox<Frame>* mailbox = &cam.frames();
+  fake.reset();  // killed
+  const int64_t killed_ns = monotonic_now_ns();
+  while (cam.state() != SourceState::kDisconnected &&
+         monotonic_now_ns() - killed_ns < 3'000'000'000)
+    std::this_thread::sleep_for(5ms);
+  ASSERT_EQ(cam.state(), SourceState::kDisconnected);
+  cam.frames().fetch();
+  const uint64_t before = cam.frames().latest().sequence;
+  fake = std::make_unique<testing::FakeGigeCamera>();  // a new process: its ids restart
+  ASSERT_TRUE(next_frame(cam, before, 5000ms)) << "not reopened";
+  EXPECT_EQ(cam.state(), SourceState::kStreaming);
+  EXPECT_EQ(&cam.frames(), mailbox) << "the consumer's mailbox must survive a reconnect";
+  EXPECT_EQ(cam.stats().reconnects, 1u);
+  // Frames after the reconnect follow on from the last one before it, and the image is right.
+  GigeHandoffTiming t;
+  std::vector<uint64_t> seq;
+  while (cam.pop_timing(t)) seq.push_back(t.sequence);
+  ASSERT_GE(seq.size(), 2u);
+  for (std::size_t i = 1; i < seq.size(); ++i) EXPECT_EQ(seq[i], seq[i - 1] + 1) << i;
+  EXPECT_EQ(cam.frames().latest().width, 160);
+  cam.stop();
 }
 
 TEST(GigeCamera, SlowButLiveCameraIsStalledNotDisconnected) {
