@@ -329,6 +329,7 @@ int FakeV4l2Device::poll(pollfd* fds, nfds_t count, int timeout_ms) {
   {
     std::lock_guard lock(mutex_);
     if (dead_fds_.count(p.fd) != 0) {
+      if (config_.unplug_fails_poll) return fail(ENODEV);
       p.revents = POLLERR | POLLHUP;
       return 1;
     }
@@ -356,6 +357,7 @@ int FakeV4l2Device::poll(pollfd* fds, nfds_t count, int timeout_ms) {
   std::lock_guard lock(mutex_);
   produce_locked();
   if (dead_fds_.count(p.fd) != 0) {
+    if (config_.unplug_fails_poll) return fail(ENODEV);
     p.revents = POLLERR | POLLHUP;
     return 1;
   }

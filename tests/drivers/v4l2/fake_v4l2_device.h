@@ -47,7 +47,8 @@ struct FakeV4l2Config {
   std::map<uint64_t, uint32_t> skip_before;  // sequence jumps by this many (frames lost)
   std::set<uint64_t> truncate_at;            // payload cut to a third (corrupt MJPEG / short YUYV)
   std::optional<uint64_t> unplug_at;         // device disappears instead of producing this frame
-  std::optional<uint64_t> stall_at;          // no more frames until resume()
+  bool unplug_fails_poll = false;    // after unplug poll() fails with ENODEV (else POLLERR|POLLHUP)
+  std::optional<uint64_t> stall_at;  // no more frames until resume()
 };
 
 /// The YUYV byte the fake writes at (byte column x, row y) of frame `sequence`: tests recompute

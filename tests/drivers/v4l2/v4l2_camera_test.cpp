@@ -239,9 +239,14 @@ TEST(V4l2Camera, ShortFramesAreDroppedNotShown) {
   EXPECT_EQ(cam.dropped_frames(), 1u);
 }
 
-TEST(V4l2Camera, UnplugDisconnectsClosesEverythingAndReopensWhenTheNodeReturns) {
+// Unplug reaches the camera either as POLLERR|POLLHUP then ENODEV from DQBUF, or as ENODEV from
+// poll itself; both must end the same way.
+class V4l2CameraUnplug : public ::testing::TestWithParam<bool> {};
+
+TEST_P(V4l2CameraUnplug, DisconnectsClosesEverythingAndReopensWhenTheNodeReturns) {
   FakeV4l2Config cfg;
   cfg.unplug_at = 5;
+  cfg.unplug_fails_poll = GetParam();
   FakeV4l2Device fake(cfg);
   V4l2Camera cam(cfg.path, fast_options(), fake);
   cam.start();
@@ -266,6 +271,11 @@ TEST(V4l2Camera, UnplugDisconnectsClosesEverythingAndReopensWhenTheNodeReturns) 
   EXPECT_EQ(fake.open_fds(), 0);
   EXPECT_EQ(fake.mapped_buffers(), 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(PollOrIoctl, V4l2CameraUnplug, ::testing::Values(false, true),
+                         [](const auto& info) {
+                           return std::string(info.param ? "EnodevFromPoll" : "EnodevFromDqbuf");
+                         });
 
 TEST(V4l2Camera, StallIsDetectedAndClearsWhenFramesResume) {
   FakeV4l2Config cfg;
