@@ -1,29 +1,16 @@
 #include "render/compositor/cpu_compositor.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstring>
 
 #include "core/blend_weights.h"
+#include "render/compositor/packed_rgba.h"
 #include "render/compositor/request_check.h"
 
 namespace hd::render {
 
 namespace {
-
-static_assert(std::endian::native == std::endian::little, "packed RGBA assumes little-endian");
-
-// Lerps two packed RGBA8 pixels by f/256, two channels per multiply (lanes cannot overflow:
-// 255 * 256 + 128 < 65536), rounded.
-inline uint32_t lerp_rgba(uint32_t a, uint32_t b, int f) {
-  const uint32_t g = static_cast<uint32_t>(f), h = 256u - g;
-  const uint32_t rb =
-      ((((a & 0x00FF00FFu) * h + (b & 0x00FF00FFu) * g) + 0x00800080u) >> 8) & 0x00FF00FFu;
-  const uint32_t ga =
-      ((((a >> 8) & 0x00FF00FFu) * h + ((b >> 8) & 0x00FF00FFu) * g) + 0x00800080u) & 0xFF00FF00u;
-  return rb | ga;
-}
 
 const SyntheticScene& empty_scene() {
   static const SyntheticScene scene;

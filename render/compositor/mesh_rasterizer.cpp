@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
-#include "render/compositor/texture_sampler.h"
+#include "render/compositor/packed_rgba.h"
 
 namespace hd::render {
 
@@ -142,7 +143,18 @@ void MeshRasterizer::draw_triangle(const TexturedMesh& mesh, const EyeVertex* v,
       tl[e] = (dY[e] < 0 || (dY[e] == 0 && dX[e] > 0)) ? 1 : 0;
     }
     const double inv_area = 1.0 / static_cast<double>(area);
+    // Attributes a = l0 a0 + l1 a1 + l2 a2 with l_e = E_e / area: one step in x changes E_e by
+    // -dY_e * sub, so each attribute changes by a constant per pixel.
+    auto step_of = [&](double a0, double a1, double a2) {
+      return -(static_cast<double>(dY[0]) * a0 + static_cast<double>(dY[1]) * a1 +
+               static_cast<double>(dY[2]) * a2) *
+             static_cast<double>(sub) * inv_area;
+    };
+    const double diz = step_of(p0.iz, p1.iz, p2.iz);
+    const double dsz = step_of(p0.sz, p1.sz, p2.sz);
+    const double dtz = step_of(p0.tz, p1.tz, p2.tz);
     const float tex_w = static_cast<float>(tex.width), tex_h = static_cast<float>(tex.height);
+    const uint8_t* tdata = tex.data.data();
     for (int y = y0; y <= y1; ++y) {
       const int64_t PY = y * sub + sub / 2;
       const int64_t PX = x0 * sub + sub / 2;
@@ -150,23 +162,39 @@ void MeshRasterizer::draw_triangle(const TexturedMesh& mesh, const EyeVertex* v,
       float* depth_row = target.inv_depth + static_cast<long>(y) * target.width;
       int64_t E[3];
       for (int e = 0; e < 3; ++e) E[e] = dX[e] * (PY - ea[e]->Y) - dY[e] * (PX - ea[e]->X);
-      for (int x = x0; x <= x1; ++x) {
+      const double l0 = static_cast<double>(E[0]) * inv_area;
+      const double l1 = static_cast<double>(E[1]) * inv_area;
+      const double l2 = static_cast<double>(E[2]) * inv_area;
+      double iz = l0 * p0.iz + l1 * p1.iz + l2 * p2.iz;
+      double sz = l0 * p0.sz + l1 * p1.sz + l2 * p2.sz;
+      double tz = l0 * p0.tz + l1 * p1.tz + l2 * p2.tz;
+      for (int x = x0; x <= x1; ++x, iz += diz, sz += dsz, tz += dtz) {
         if (E[0] + tl[0] > 0 && E[1] + tl[1] > 0 && E[2] + tl[2] > 0) {
-          const double l0 = static_cast<double>(E[0]) * inv_area;
-          const double l1 = static_cast<double>(E[1]) * inv_area;
-          const double l2 = static_cast<double>(E[2]) * inv_area;
-          const double iz = l0 * p0.iz + l1 * p1.iz + l2 * p2.iz;
           const float izf = static_cast<float>(iz);
           if (izf > depth_row[x]) {
             depth_row[x] = izf;
-            const double s = (l0 * p0.sz + l1 * p1.sz + l2 * p2.sz) / iz;
-            const double t = (l0 * p0.tz + l1 * p1.tz + l2 * p2.tz) / iz;
-            float rgb[3];
-            sample_bilinear(tex.data.data(), tex.width, tex.height, tex.stride_bytes,
-                            static_cast<float>(s) * tex_w, static_cast<float>(t) * tex_h, rgb);
-            uint8_t* o = rgba_row + 4 * x;
-            for (int c = 0; c < 3; ++c) o[c] = static_cast<uint8_t>(rgb[c] + 0.5f);
-            o[3] = 255;
+            const double z = 1.0 / iz;
+            // Texel position, clamped so the fixed-point conversion below stays positive.
+            const float tu = std::clamp(static_cast<float>(sz * z) * tex_w, -1.0f, tex_w + 1.0f);
+            const float tv = std::clamp(static_cast<float>(tz * z) * tex_h, -1.0f, tex_h + 1.0f);
+            // round((t - 0.5) * 256) as floor(t * 256 - 127.5), made positive by +512.
+            const int X = static_cast<int>(tu * 256.0f + 384.5f) - 512;
+            const int Y = static_cast<int>(tv * 256.0f + 384.5f) - 512;
+            const int xa = std::clamp(X >> 8, 0, tex.width - 1);
+            const int xb = std::clamp((X >> 8) + 1, 0, tex.width - 1);
+            const int ya = std::clamp(Y >> 8, 0, tex.height - 1);
+            const int yb = std::clamp((Y >> 8) + 1, 0, tex.height - 1);
+            const uint8_t* r0 = tdata + static_cast<long>(ya) * tex.stride_bytes;
+            const uint8_t* r1 = tdata + static_cast<long>(yb) * tex.stride_bytes;
+            uint32_t c00, c10, c01, c11;
+            std::memcpy(&c00, r0 + 4 * xa, 4);
+            std::memcpy(&c10, r0 + 4 * xb, 4);
+            std::memcpy(&c01, r1 + 4 * xa, 4);
+            std::memcpy(&c11, r1 + 4 * xb, 4);
+            const uint32_t c =
+                lerp_rgba(lerp_rgba(c00, c10, X & 255), lerp_rgba(c01, c11, X & 255), Y & 255) |
+                0xFF000000u;
+            std::memcpy(rgba_row + 4 * x, &c, 4);
           }
         }
         for (int e = 0; e < 3; ++e) E[e] -= dY[e] * sub;
