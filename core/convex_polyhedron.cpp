@@ -24,15 +24,26 @@ ConvexPolyhedron ConvexPolyhedron::box_cut_by(const WorkspaceBox& box, const Hal
                                               int n_cuts, double tol_m) {
   ConvexPolyhedron out;
   if (!box.valid() || n_cuts < 0 || n_cuts > kMaxCuts) return out;
-  std::array<HalfSpace3, kMaxCuts> unit{};
-  for (int i = 0; i < n_cuts; ++i) {
-    unit[i] = cuts[i].normalized();
-    // A degenerate (zero-normal) cut keeps everything when c >= 0 and nothing otherwise.
-    if (unit[i].n.squaredNorm() == 0.0 && !(unit[i].c >= 0.0)) return out;
-  }
-  const auto bp = box_planes(box);
   const Eigen::Vector3d& lo = box.min_m;
   const Eigen::Vector3d& hi = box.max_m;
+  // Keep only the cuts that really cut the box: a half-space holding all 8 corners holds the box
+  // and changes nothing (usually both near planes); one holding none empties it.
+  std::array<HalfSpace3, kMaxCuts> unit{};
+  int n_unit = 0;
+  for (int i = 0; i < n_cuts; ++i) {
+    const HalfSpace3 h = cuts[i].normalized();
+    if (!h.n.allFinite() || !std::isfinite(h.c)) return out;
+    int inside = 0;
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3d corner(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(),
+                                   k & 4 ? hi.z() : lo.z());
+      inside += h.signed_distance(corner) >= -tol_m;
+    }
+    if (inside == 0) return out;
+    if (inside < 8) unit[n_unit++] = h;
+  }
+  n_cuts = n_unit;
+  const auto bp = box_planes(box);
 
   // Box faces: the face quad already satisfies the box planes, so only the cuts clip it.
   for (int a = 0; a < 3; ++a) {
@@ -60,7 +71,6 @@ ConvexPolyhedron ConvexPolyhedron::box_cut_by(const WorkspaceBox& box, const Hal
   const double half = 0.5 * (hi - lo).norm() + tol_m + 1e-9;
   for (int i = 0; i < n_cuts; ++i) {
     const Eigen::Vector3d& n = unit[i].n;
-    if (n.squaredNorm() == 0.0) continue;
     int least = 0;
     n.cwiseAbs().minCoeff(&least);
     const Eigen::Vector3d e1 = n.cross(Eigen::Vector3d::Unit(least)).normalized();
