@@ -1,5 +1,6 @@
 #include "calib/corner_detector.h"
 
+#include <algorithm>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -22,7 +23,16 @@ Detection run_detection(const cv::Mat& gray, const Board& board, const DetectorO
     if (found && opt.refinement != Refinement::kNone) {
       // "11x11" is cornerSubPix's winSize as OpenCV's calibration samples pass it: the HALF
       // size, i.e. a 23x23 search window (the published reference figures used it).
-      const int win = opt.refinement == Refinement::kSubPix11 ? 11 : 5;
+      // A window reaching past the neighbouring corners pulls the estimate towards them (small
+      // or distant boards), so it is capped at 0.6x the closest corner spacing.
+      double spacing = 1e9;
+      for (int r = 0; r < board.rows; ++r)
+        for (int c = 0; c + 1 < board.cols; ++c) {
+          const auto i = static_cast<std::size_t>(r * board.cols + c);
+          spacing = std::min(spacing, static_cast<double>(cv::norm(d.corners[i + 1] - d.corners[i])));
+        }
+      const int win = std::max(
+          2, std::min(opt.refinement == Refinement::kSubPix11 ? 11 : 5, static_cast<int>(0.6 * spacing)));
       cv::cornerSubPix(gray, d.corners, cv::Size(win, win), cv::Size(-1, -1),
                        cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 1e-4));
     }
@@ -37,6 +47,18 @@ Detection run_detection(const cv::Mat& gray, const Board& board, const DetectorO
     d.by_sb = found;
   }
   if (found && static_cast<int>(d.corners.size()) != board.corner_count()) found = false;
+  if (found && opt.check_larger) {
+    std::vector<cv::Point2f> larger;
+    if (cv::findChessboardCornersSB(gray, board.pattern(), larger,
+                                    cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_LARGER) &&
+        static_cast<int>(larger.size()) > board.corner_count()) {
+      d.status = DetectionStatus::kLargerBoard;
+      d.larger_corner_count = static_cast<int>(larger.size());
+      d.corners.clear();
+      d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return d;
+    }
+  }
   d.status = found ? DetectionStatus::kFound : DetectionStatus::kNotFound;
   if (!found) d.corners.clear();
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -61,6 +83,9 @@ std::string Detection::describe() const {
       return "no board";
     case DetectionStatus::kTimedOut:
       return "detection timed out, skipped";
+    case DetectionStatus::kLargerBoard:
+      return "pattern is part of a larger board (" + std::to_string(larger_corner_count) +
+             " inner corners): wrong --board?";
   }
   return "?";
 }

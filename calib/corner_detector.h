@@ -18,15 +18,19 @@ struct DetectorOptions {
   Refinement refinement = Refinement::kSubPix11;
   bool use_classic = true;      ///< findChessboardCorners first
   bool use_sb_fallback = true;  ///< findChessboardCornersSB when the classic one fails
+  bool check_larger = true;     ///< reject a pattern that is part of a larger board
   std::chrono::milliseconds timeout{5000};
 };
 
-enum class DetectionStatus { kFound, kNotFound, kTimedOut };
+/// kLargerBoard: the detectors found the pattern, but it is part of a larger chessboard (the
+/// classic detector happily returns an 8x6 patch of a 9x6 board): a wrong --board.
+enum class DetectionStatus { kFound, kNotFound, kTimedOut, kLargerBoard };
 
 struct Detection {
   DetectionStatus status = DetectionStatus::kNotFound;
   bool by_sb = false;  ///< found by the SB detector (fallback)
   std::vector<cv::Point2f> corners;
+  int larger_corner_count = 0;  ///< kLargerBoard: corners of the larger board SB saw
   double seconds = 0.0;
 
   bool found() const { return status == DetectionStatus::kFound; }

@@ -92,6 +92,7 @@ int run(const Args& a) {
   DetectorOptions det_opt;
   det_opt.timeout = std::chrono::milliseconds(static_cast<long>(a.timeout_s * 1000));
   std::vector<View> views;
+  std::vector<std::string> larger;
   cv::Mat background;
   const std::size_t n = images.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -99,10 +100,18 @@ int run(const Args& a) {
     std::printf("[%zu/%zu] %s: %s (%.0f ms)\n", i + 1, n, images[i].name.c_str(),
                 d.describe().c_str(), 1000 * d.seconds);
     std::fflush(stdout);
+    if (d.status == DetectionStatus::kLargerBoard) larger.push_back(images[i].name);
     if (d.found()) {
       views.push_back({images[i].name, d.corners});
       if (background.empty()) background = images[i].gray;
     }
+  }
+  if (!larger.empty()) {
+    std::fprintf(stderr,
+                 "error: in %s (and %zu more) the %dx%d pattern is part of a larger chessboard: "
+                 "--board must give ALL inner corners, columns x rows; nothing written\n",
+                 larger.front().c_str(), larger.size() - 1, board.cols, board.rows);
+    return kBadInput;
   }
   if (views.empty()) {
     std::fprintf(stderr,
