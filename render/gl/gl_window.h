@@ -16,9 +16,9 @@ struct WindowOptions {
   std::string title = "hybrid-station";
 };
 
-/// Owns GLFW (reference-counted init/terminate) and one window with a current 3.3 core context.
-/// Construction throws std::runtime_error naming what failed (no display, no 3.3 core context,
-/// monitor index out of range); after that nothing throws.
+/// Initialises GLFW once per process (see gl_window.cpp) and owns one window with a current 3.3
+/// core context. Construction throws std::runtime_error naming what failed (no display, no 3.3 core
+/// context, monitor index out of range); after that nothing throws.
 class Window {
  public:
   explicit Window(const WindowOptions& options);
