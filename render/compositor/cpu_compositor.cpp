@@ -130,6 +130,8 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
   float* sv = su + W;
   float* sa = sv + W;
   const float wv = static_cast<float>(w_video);
+  const uint8_t bg_rgba[4] = {scene_->background_rgb[0], scene_->background_rgb[1],
+                              scene_->background_rgb[2], 255};
 
   for (int y = row_begin; y < row_end; ++y) {
     const uint8_t* srow = synth_rgba_.data() + static_cast<long>(y) * W * 4;
@@ -202,6 +204,15 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
           o[3] = 255;
           continue;
         }
+      }
+      if (a <= 0.0f && !desaturate && !checker) {  // the model as drawn (or the background)
+        if (drow[x] > 0.0f) {
+          std::memcpy(o, srow + 4 * x, 4);
+        } else {
+          std::memcpy(o, bg_rgba, 4);
+        }
+        o[3] = 255;
+        continue;
       }
       float s[3];
       if (drow[x] > 0.0f) {

@@ -162,42 +162,62 @@ void MeshRasterizer::draw_triangle(const TexturedMesh& mesh, const EyeVertex* v,
       float* depth_row = target.inv_depth + static_cast<long>(y) * target.width;
       int64_t E[3];
       for (int e = 0; e < 3; ++e) E[e] = dX[e] * (PY - ea[e]->Y) - dY[e] * (PX - ea[e]->X);
+      // The covered span of this row, exactly: E_e(x0 + i) = E_e + k_e i with k_e = -dY_e sub,
+      // covered while E_e + k_e i + tl_e > 0 for all three edges.
+      int64_t i_lo = 0, i_hi = x1 - x0;
+      for (int e = 0; e < 3; ++e) {
+        const int64_t k = -dY[e] * sub;
+        const int64_t c0 = E[e] + tl[e];  // covered iff c0 + k i > 0
+        if (k == 0) {
+          if (c0 <= 0) i_hi = -1;
+        } else if (k > 0) {
+          // i > -c0 / k  ->  i >= floor(-c0 / k) + 1
+          const int64_t n = -c0;
+          const int64_t fl = n >= 0 ? n / k : -((-n + k - 1) / k);
+          i_lo = std::max(i_lo, fl + 1);
+        } else {
+          // i < c0 / (-k)  ->  i <= ceil(c0 / (-k)) - 1
+          const int64_t m = -k;
+          const int64_t ce = c0 >= 0 ? (c0 + m - 1) / m : -((-c0) / m);
+          i_hi = std::min(i_hi, ce - 1);
+        }
+      }
+      if (i_lo > i_hi) continue;
+      const int xs = x0 + static_cast<int>(i_lo), xe = x0 + static_cast<int>(i_hi);
       const double l0 = static_cast<double>(E[0]) * inv_area;
       const double l1 = static_cast<double>(E[1]) * inv_area;
       const double l2 = static_cast<double>(E[2]) * inv_area;
-      double iz = l0 * p0.iz + l1 * p1.iz + l2 * p2.iz;
-      double sz = l0 * p0.sz + l1 * p1.sz + l2 * p2.sz;
-      double tz = l0 * p0.tz + l1 * p1.tz + l2 * p2.tz;
-      for (int x = x0; x <= x1; ++x, iz += diz, sz += dsz, tz += dtz) {
-        if (E[0] + tl[0] > 0 && E[1] + tl[1] > 0 && E[2] + tl[2] > 0) {
-          const float izf = static_cast<float>(iz);
-          if (izf > depth_row[x]) {
-            depth_row[x] = izf;
-            const double z = 1.0 / iz;
-            // Texel position, clamped so the fixed-point conversion below stays positive.
-            const float tu = std::clamp(static_cast<float>(sz * z) * tex_w, -1.0f, tex_w + 1.0f);
-            const float tv = std::clamp(static_cast<float>(tz * z) * tex_h, -1.0f, tex_h + 1.0f);
-            // round((t - 0.5) * 256) as floor(t * 256 - 127.5), made positive by +512.
-            const int X = static_cast<int>(tu * 256.0f + 384.5f) - 512;
-            const int Y = static_cast<int>(tv * 256.0f + 384.5f) - 512;
-            const int xa = std::clamp(X >> 8, 0, tex.width - 1);
-            const int xb = std::clamp((X >> 8) + 1, 0, tex.width - 1);
-            const int ya = std::clamp(Y >> 8, 0, tex.height - 1);
-            const int yb = std::clamp((Y >> 8) + 1, 0, tex.height - 1);
-            const uint8_t* r0 = tdata + static_cast<long>(ya) * tex.stride_bytes;
-            const uint8_t* r1 = tdata + static_cast<long>(yb) * tex.stride_bytes;
-            uint32_t c00, c10, c01, c11;
-            std::memcpy(&c00, r0 + 4 * xa, 4);
-            std::memcpy(&c10, r0 + 4 * xb, 4);
-            std::memcpy(&c01, r1 + 4 * xa, 4);
-            std::memcpy(&c11, r1 + 4 * xb, 4);
-            const uint32_t c =
-                lerp_rgba(lerp_rgba(c00, c10, X & 255), lerp_rgba(c01, c11, X & 255), Y & 255) |
-                0xFF000000u;
-            std::memcpy(rgba_row + 4 * x, &c, 4);
-          }
+      const double di = static_cast<double>(i_lo);
+      double iz = l0 * p0.iz + l1 * p1.iz + l2 * p2.iz + di * diz;
+      double sz = l0 * p0.sz + l1 * p1.sz + l2 * p2.sz + di * dsz;
+      double tz = l0 * p0.tz + l1 * p1.tz + l2 * p2.tz + di * dtz;
+      for (int x = xs; x <= xe; ++x, iz += diz, sz += dsz, tz += dtz) {
+        const float izf = static_cast<float>(iz);
+        if (izf > depth_row[x]) {
+          depth_row[x] = izf;
+          const double z = 1.0 / iz;
+          // Texel position, clamped so the fixed-point conversion below stays positive.
+          const float tu = std::clamp(static_cast<float>(sz * z) * tex_w, -1.0f, tex_w + 1.0f);
+          const float tv = std::clamp(static_cast<float>(tz * z) * tex_h, -1.0f, tex_h + 1.0f);
+          // round((t - 0.5) * 256) as floor(t * 256 - 127.5), made positive by +512.
+          const int X = static_cast<int>(tu * 256.0f + 384.5f) - 512;
+          const int Y = static_cast<int>(tv * 256.0f + 384.5f) - 512;
+          const int xa = std::clamp(X >> 8, 0, tex.width - 1);
+          const int xb = std::clamp((X >> 8) + 1, 0, tex.width - 1);
+          const int ya = std::clamp(Y >> 8, 0, tex.height - 1);
+          const int yb = std::clamp((Y >> 8) + 1, 0, tex.height - 1);
+          const uint8_t* r0 = tdata + static_cast<long>(ya) * tex.stride_bytes;
+          const uint8_t* r1 = tdata + static_cast<long>(yb) * tex.stride_bytes;
+          uint32_t c00, c10, c01, c11;
+          std::memcpy(&c00, r0 + 4 * xa, 4);
+          std::memcpy(&c10, r0 + 4 * xb, 4);
+          std::memcpy(&c01, r1 + 4 * xa, 4);
+          std::memcpy(&c11, r1 + 4 * xb, 4);
+          const uint32_t c =
+              lerp_rgba(lerp_rgba(c00, c10, X & 255), lerp_rgba(c01, c11, X & 255), Y & 255) |
+              0xFF000000u;
+          std::memcpy(rgba_row + 4 * x, &c, 4);
         }
-        for (int e = 0; e < 3; ++e) E[e] -= dY[e] * sub;
       }
     }
   }
