@@ -1,22 +1,37 @@
 #include "drivers/convert/yuyv_to_rgba.h"
 
-#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstring>
 
 namespace hd::drivers {
 namespace {
 
 // BT.601 limited range (Y in [16,235], Cb/Cr in [16,240]) coefficients scaled by 256:
 // 1.164 -> 298, 1.596 -> 409, 0.391 -> 100, 0.813 -> 208, 2.018 -> 516.
-inline uint8_t clamp_u8(int v) {
-  return static_cast<uint8_t>(std::clamp(v, 0, 255));
+// Every (sum >> 8) lies in [-278, 535] for 8-bit inputs: a table saturates it to [0, 255] without
+// branches, which is what makes this loop fast (the clamps dominated).
+static_assert(std::endian::native == std::endian::little, "RGBA packing assumes little-endian");
+constexpr int kClipOffset = 320;
+constexpr int kClipSize = 1024;
+constexpr std::array<uint8_t, kClipSize> make_clip() {
+  std::array<uint8_t, kClipSize> t{};
+  for (int i = 0; i < kClipSize; ++i) {
+    const int v = i - kClipOffset;
+    t[static_cast<std::size_t>(i)] = static_cast<uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v));
+  }
+  return t;
 }
+constexpr std::array<uint8_t, kClipSize> kClip = make_clip();
 
 inline void put_pixel(uint8_t* out, int c, int r_term, int g_term, int b_term) {
-  const int y = 298 * c + 128;  // +128 rounds the >> 8 to nearest
-  out[0] = clamp_u8((y + r_term) >> 8);
-  out[1] = clamp_u8((y + g_term) >> 8);
-  out[2] = clamp_u8((y + b_term) >> 8);
-  out[3] = 255;
+  const int y = 298 * c + 128 + (kClipOffset << 8);  // +128 rounds the >> 8 to nearest
+  // One 32-bit store per pixel (RGBA in memory order on a little-endian host).
+  const uint32_t px = uint32_t{kClip[static_cast<std::size_t>((y + r_term) >> 8)]} |
+                      uint32_t{kClip[static_cast<std::size_t>((y + g_term) >> 8)]} << 8 |
+                      uint32_t{kClip[static_cast<std::size_t>((y + b_term) >> 8)]} << 16 |
+                      0xFF000000u;
+  std::memcpy(out, &px, sizeof(px));
 }
 
 // Bytes an image needs when the last row is not padded to the full stride.
