@@ -29,10 +29,11 @@ Detection run_detection(const cv::Mat& gray, const Board& board, const DetectorO
       for (int r = 0; r < board.rows; ++r)
         for (int c = 0; c + 1 < board.cols; ++c) {
           const auto i = static_cast<std::size_t>(r * board.cols + c);
-          spacing = std::min(spacing, static_cast<double>(cv::norm(d.corners[i + 1] - d.corners[i])));
+          spacing =
+              std::min(spacing, static_cast<double>(cv::norm(d.corners[i + 1] - d.corners[i])));
         }
-      const int win = std::max(
-          2, std::min(opt.refinement == Refinement::kSubPix11 ? 11 : 5, static_cast<int>(0.6 * spacing)));
+      const int win = std::max(2, std::min(opt.refinement == Refinement::kSubPix11 ? 11 : 5,
+                                           static_cast<int>(0.6 * spacing)));
       cv::cornerSubPix(gray, d.corners, cv::Size(win, win), cv::Size(-1, -1),
                        cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 1e-4));
     }

@@ -17,7 +17,8 @@ void copy_views(const fs::path& to, int n = 3) {
   }
 }
 
-std::string intrinsics(const fs::path& images, const fs::path& out, const std::string& board = "9x6") {
+std::string intrinsics(const fs::path& images, const fs::path& out,
+                       const std::string& board = "9x6") {
   return "intrinsics --images " + q(images) + " --board " + board + " --square 0.025 --out " +
          q(out);
 }
@@ -65,8 +66,8 @@ TEST(BadInput, MalformedBoardOption) {
     EXPECT_EQ(r.exit_code, 2) << b << ": " << r.output;
     EXPECT_NE(r.output.find("--board"), std::string::npos) << r.output;
   }
-  const auto r = run_cli("intrinsics --images " + q(in.path()) +
-                         " --board 9x6 --square -1 --out " + q(out.path() / "c.yml"));
+  const auto r = run_cli("intrinsics --images " + q(in.path()) + " --board 9x6 --square -1 --out " +
+                         q(out.path() / "c.yml"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--square"), std::string::npos) << r.output;
   EXPECT_TRUE(out.listing().empty());
@@ -139,8 +140,7 @@ TEST(BadInput, PoseWithBrokenIntrinsicsFile) {
   const auto r = run_cli("pose --intrinsics " + q(intr) + " --image " + q(img) +
                          " --board 7x7 --square 0.0195 --out " + q(out.path() / "p.yml"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("intr.yml: key 'camera_matrix': missing"), std::string::npos)
-      << r.output;
+  EXPECT_NE(r.output.find("intr.yml: key 'camera_matrix': missing"), std::string::npos) << r.output;
   EXPECT_EQ(out.listing(), std::vector<std::string>{"intr.yml"});
 }
 
