@@ -269,6 +269,17 @@ TEST_F(GlCompositorTest, RegionFromMeasureViewIsEnoughForTheWholePicture) {
   EXPECT_GE(psnr_db(cpu_out_, gl_out_), 40.0);
 }
 
+TEST_F(GlCompositorTest, PresentBlitsToTheWindowWithoutDisturbingTheNextPicture) {
+  CompositeRequest req = base_request();
+  draw_both(req, 400, 300);
+  gl_->present();
+  ImageRgba8 again;
+  again.allocate(400, 300);
+  gl_->draw(req, again);
+  EXPECT_EQ(again.data, gl_out_.data);
+  EXPECT_GE(psnr_db(cpu_out_, again), 40.0);
+}
+
 TEST_F(GlCompositorTest, MalformedRequestIsRejectedAndCounted) {
   CompositeRequest req = base_request();
   req.viewport = {0, 0, 500, 300};
