@@ -23,7 +23,9 @@ struct TexturedMesh {
   std::vector<std::array<uint32_t, 3>> triangles;  ///< indices into positions_m / uvs
   ImageRgba8 texture;                              ///< alpha is ignored (the model is opaque)
 
-  /// Every index in range, uvs match positions, texture non-empty, all values finite.
+  /// Every index in range, uvs match positions, texture non-empty with a whole-pixel stride
+  /// (a multiple of 4 bytes, as GL_UNPACK_ROW_LENGTH needs), all values finite. Both compositors
+  /// skip an invalid mesh.
   bool valid() const;
 };
 
