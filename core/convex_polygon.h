@@ -74,7 +74,7 @@ class ConvexPolygon {
       }
       if (in_i) emit(verts_[i]);
     }
-    verts_ = out;
+    std::copy(out.begin(), out.begin() + n, verts_.begin());
     size_ = n;
   }
 
@@ -90,7 +90,7 @@ class ConvexPolygon {
   }
 
  private:
-  std::array<Vec, MaxVerts> verts_{};
+  std::array<Vec, MaxVerts> verts_;  // Eigen leaves these uninitialised: no per-frame memset
   int size_ = 0;
   bool overflowed_ = false;
 };

@@ -23,6 +23,8 @@ std::array<HalfSpace3, 6> box_planes(const WorkspaceBox& b) {
 ConvexPolyhedron ConvexPolyhedron::box_cut_by(const WorkspaceBox& box, const HalfSpace3* cuts,
                                               int n_cuts, double tol_m) {
   ConvexPolyhedron out;
+  out.box = box;
+  out.tol_m = tol_m;
   if (!box.valid() || n_cuts < 0 || n_cuts > kMaxCuts) return out;
   const Eigen::Vector3d& lo = box.min_m;
   const Eigen::Vector3d& hi = box.max_m;
@@ -64,6 +66,8 @@ ConvexPolyhedron ConvexPolyhedron::box_cut_by(const WorkspaceBox& box, const Hal
       if (!f.empty()) out.faces[out.face_count++] = f;
     }
   }
+
+  out.box_face_count = out.face_count;
 
   // Cut faces: a square on the cut plane large enough to contain plane ∩ box (every point of the
   // box is within half the diagonal of its centre, and so is its projection on the plane).

@@ -17,8 +17,11 @@ struct ConvexPolyhedron {
   /// and the other cuts; each clip adds at most one vertex.
   using Face = ConvexPolygon<3, 4 + 6 + kMaxCuts>;
 
-  std::array<Face, kMaxFaces> faces{};
-  int face_count = 0;  ///< faces with at least one vertex
+  std::array<Face, kMaxFaces> faces;
+  int face_count = 0;      ///< faces with at least one vertex
+  int box_face_count = 0;  ///< faces[0..box_face_count) lie on box planes, the rest on cuts
+  WorkspaceBox box;
+  double tol_m = 0.0;
 
   bool empty() const { return face_count == 0; }
 
@@ -28,6 +31,23 @@ struct ConvexPolyhedron {
   void for_each_vertex(F&& f) const {
     for (int i = 0; i < face_count; ++i)
       for (int k = 0; k < faces[i].size(); ++k) f(faces[i][k]);
+  }
+
+  /// Calls f(vertex) for every vertex at most about 3 times instead of up to 6: a vertex of a
+  /// cut face that lies on a box plane is also a vertex of that box face, so it is skipped there.
+  template <class F>
+  void for_each_vertex_once_per_box_face(F&& f) const {
+    for (int i = 0; i < face_count; ++i)
+      for (int k = 0; k < faces[i].size(); ++k) {
+        const Eigen::Vector3d& v = faces[i][k];
+        if (i >= box_face_count && on_box_plane(v)) continue;
+        f(v);
+      }
+  }
+
+  bool on_box_plane(const Eigen::Vector3d& v) const {
+    return ((v - box.min_m).cwiseAbs().array() <= tol_m).any() ||
+           ((v - box.max_m).cwiseAbs().array() <= tol_m).any();
   }
 
   /// box ∩ cuts[0..n_cuts). Points within tol_m of a plane count as inside it (flat boxes, grazing

@@ -19,7 +19,7 @@ double max_error_at_vertices(const ViewSetup& s) {
   const ConvexPolyhedron W = observation_space(s);
   const CameraPair pair(s);
   double e_max = 0.0;
-  W.for_each_vertex([&](const Eigen::Vector3d& X) {
+  W.for_each_vertex_once_per_box_face([&](const Eigen::Vector3d& X) {
     const double e = pair.error_px(pair.real_from_world(X));
     // NaN cannot arise from a valid setup; if it ever did, "unusable" is the safe reading.
     e_max = std::isnan(e) ? kInf : std::max(e_max, e);

@@ -24,6 +24,7 @@
 #include "core/camera_pair.h"
 #include "core/coverage.h"
 #include "core/observation_space.h"
+#include "core/update_region.h"
 #include "core/view_measure.h"
 
 namespace {
@@ -90,7 +91,9 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-double max_of(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+double max_of(const std::vector<double>& v) {
+  return *std::max_element(v.begin(), v.end());
+}
 
 // ---- E_max methods ----
 
@@ -125,8 +128,8 @@ double emax_sampled(const ViewSetup& s, int n) {
 bool ray_in_W(const ViewSetup& s, const std::array<HalfSpace3, 12>& planes, double u, double v,
               Eigen::Vector3d& origin, Eigen::Vector3d& dir, double& s0, double& s1) {
   origin = s.T_world_virt.t;
-  dir = s.T_world_virt.R * Eigen::Vector3d((u - s.virt.cx) / s.virt.fx,
-                                           (v - s.virt.cy) / s.virt.fy, 1.0);
+  dir = s.T_world_virt.R *
+        Eigen::Vector3d((u - s.virt.cx) / s.virt.fx, (v - s.virt.cy) / s.virt.fy, 1.0);
   s0 = 0;
   s1 = kInf;
   for (const auto& h : planes) {
@@ -196,7 +199,10 @@ double dense_search_excess(const ViewSetup& s, int step, int n) {
       const double g = 0.5 * (std::sqrt(5.0) - 1);
       for (int it = 0; it < 60; ++it) {
         const double a = hi - g * (hi - lo), b = lo + g * (hi - lo);
-        if (E(a) > E(b)) hi = b; else lo = a;
+        if (E(a) > E(b))
+          hi = b;
+        else
+          lo = a;
       }
       best_e = std::max(best_e, E(0.5 * (lo + hi)));
       if (std::isfinite(best_e) && std::isfinite(ends))
@@ -215,8 +221,8 @@ double coverage_raster(const ViewSetup& s, double step) {
   for (double v = step / 2; v < s.virt.height; v += step)
     for (double u = step / 2; u < s.virt.width; u += step) {
       ++total;
-      const Eigen::Vector3d b = M * Eigen::Vector3d((u - s.virt.cx) / s.virt.fx,
-                                                    (v - s.virt.cy) / s.virt.fy, 1.0);
+      const Eigen::Vector3d b =
+          M * Eigen::Vector3d((u - s.virt.cx) / s.virt.fx, (v - s.virt.cy) / s.virt.fy, 1.0);
       const double t = (s.d_m - a.z()) / b.z();
       if (!(t >= s.near_m)) continue;
       const Eigen::Vector3d X = a + t * b;
@@ -239,8 +245,29 @@ void row(const char* method, const std::vector<double>& err, const char* unit,
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   const auto setups = poses(48);
+  // --decision: only the per-frame decision row (seconds instead of a minute).
+  if (argc > 1 && std::string(argv[1]) == "--decision") {
+    std::vector<double> t;
+    for (const auto& s : setups)
+      t.push_back(time_per_call(300, [&] {
+        const ViewMeasure vm = measure_view(s);
+        return video_weight(vm.m, 40, 10) + vm.region.u_min;
+      }));
+    std::printf("per-frame decision for one camera: median %.3f us, max %.3f us (target < 2 us)\n",
+                median(t) * 1e6, max_of(t) * 1e6);
+    std::vector<double> tw, te, tc, tr;
+    for (const auto& s : setups) {
+      tw.push_back(time_per_call(300, [&] { return observation_space(s).face_count; }));
+      te.push_back(time_per_call(300, [&] { return max_error_at_vertices(s); }));
+      tc.push_back(time_per_call(300, [&] { return coverage(s); }));
+      tr.push_back(time_per_call(300, [&] { return update_region(s)->u_min; }));
+    }
+    std::printf("parts (median us): W %.3f, E_max incl. W %.3f, coverage %.3f, region %.3f\n",
+                median(tw) * 1e6, median(te) * 1e6, median(tc) * 1e6, median(tr) * 1e6);
+    return 0;
+  }
   const int n = static_cast<int>(setups.size());
   std::vector<double> exact(n), cov(n);
   std::vector<double> t_exact, t_cov;
@@ -252,9 +279,10 @@ int main() {
   }
   auto rel = [&](double e, int i) { return std::abs(e - exact[i]) / std::max(exact[i], 1e-12); };
 
-  std::printf("hybrid-bench-geom: %d virtual poses within 0.1 m / 20 deg of the real camera; real "
-              "1600x1200 f=2000, virtual 800x600 f=1000, d=0.5 m, W box 1x1x0.8 m\n\n",
-              n);
+  std::printf(
+      "hybrid-bench-geom: %d virtual poses within 0.1 m / 20 deg of the real camera; real "
+      "1600x1200 f=2000, virtual 800x600 f=1000, d=0.5 m, W box 1x1x0.8 m\n\n",
+      n);
   std::printf("| %-44s | %-28s | %12s |\n", "method", "error median / max", "us per frame");
   std::printf("|%s|%s|%s|\n", std::string(46, '-').c_str(), std::string(30, '-').c_str(),
               std::string(14, '-').c_str());
@@ -304,7 +332,8 @@ int main() {
     for (int i = 0; i < n; ++i) {
       double c = 0;
       c = coverage_raster(setups[i], step);
-      if (i % 8 == 0) t.push_back(time_per_call(1, [&] { return coverage_raster(setups[i], step); }));
+      if (i % 8 == 0)
+        t.push_back(time_per_call(1, [&] { return coverage_raster(setups[i], step); }));
       err.push_back(std::abs(c - cov[i]));
     }
     char name[64];
@@ -319,8 +348,9 @@ int main() {
         return video_weight(vm.m, 40, 10) + vm.region.u_min;
       }));
     row("DECISION: measure_view + video_weight", {}, "", t);
-    std::printf("\nper-frame decision for one camera: median %.3f us, max %.3f us (target < 2 us)\n",
-                median(t) * 1e6, max_of(t) * 1e6);
+    std::printf(
+        "\nper-frame decision for one camera: median %.3f us, max %.3f us (target < 2 us)\n",
+        median(t) * 1e6, max_of(t) * 1e6);
   }
   return 0;
 }
