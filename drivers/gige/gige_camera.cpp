@@ -85,8 +85,8 @@ void GigeCamera::open() {
                       std::string(to_string(config_.pixel_format)) +
                       " is not supported (expected Mono8, RGB8, BayerRG8/GR8/GB8/BG8)");
   }
-  if (config_.buffer_count < 2) {
-    throw DeviceError("GigE camera '" + id + "': buffer_count must be >= 2, got " +
+  if (config_.buffer_count < 0 || config_.buffer_count == 1) {
+    throw DeviceError("GigE camera '" + id + "': buffer_count must be 0 (auto) or >= 2, got " +
                       std::to_string(config_.buffer_count));
   }
   GErrorHolder error;
@@ -174,10 +174,17 @@ void GigeCamera::open() {
           ? config_.socket_buffer_bytes
           : static_cast<int>(std::min<std::size_t>(
                 payload_bytes_ * std::max<std::size_t>(4, frames_100ms), 64u << 20));
-  g_object_set(stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED,
-               "socket-buffer-size", socket_buffer_bytes_, "packet-resend",
-               ARV_GV_STREAM_PACKET_RESEND_ALWAYS, nullptr);
-  for (int i = 0; i < config_.buffer_count; ++i) {
+  g_object_set(
+      stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED, "socket-buffer-size",
+      socket_buffer_bytes_, "packet-resend", ARV_GV_STREAM_PACKET_RESEND_ALWAYS, "frame-retention",
+      static_cast<guint>(std::clamp<int64_t>(config_.frame_retention_ns / 1000, 1000, 10'000'000)),
+      nullptr);
+  buffer_count_ = config_.buffer_count;
+  if (buffer_count_ == 0) {
+    const double in_flight = rate * static_cast<double>(config_.frame_retention_ns) * 1e-9;
+    buffer_count_ = std::max(8, static_cast<int>(std::ceil(in_flight)) + 4);
+  }
+  for (int i = 0; i < buffer_count_; ++i) {
     arv_stream_push_buffer(stream_.get(), arv_buffer_new(payload_bytes_, nullptr));
   }
 
@@ -204,6 +211,7 @@ void GigeCamera::start() {
   if (running_.load()) return;
   GErrorHolder error;
   unwrapper_.reset();
+  got_first_frame_ = false;
   rebase_sequence_ = last_sequence_ != 0;  // a restart must not move the sequence backwards
   arv_camera_start_acquisition(camera_.get(), error.out());
   if (error) {
@@ -259,6 +267,7 @@ bool GigeCamera::reconnect() {
     return false;
   }
   unwrapper_.reset();
+  got_first_frame_ = false;
   rebase_sequence_ = true;  // the camera's ids restarted; the consumer's sequence must not
   clock_mapper_ = DeviceClockMapper(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000});
   last_frame_ns_ = monotonic_now_ns();
@@ -281,6 +290,7 @@ GigeStats GigeCamera::stats() const {
   s.liveness_probes = probes_.load(std::memory_order_relaxed);
   s.last_bad_status = last_bad_status_.load(std::memory_order_relaxed);
   s.reconnects = reconnects_.load(std::memory_order_relaxed);
+  s.bad_before_first_frame = bad_before_first_.load(std::memory_order_relaxed);
   return s;
 }
 
@@ -329,6 +339,7 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
     // loss is counted once.
     unwrapper_.update(arv_buffer_get_frame_id(buffer));
     bad_buffers_.fetch_add(1, std::memory_order_relaxed);
+    if (!got_first_frame_) bad_before_first_.fetch_add(1, std::memory_order_relaxed);
     last_bad_status_.store(static_cast<int>(status), std::memory_order_relaxed);
     return;
   }
@@ -390,6 +401,7 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
   // State first: a consumer that sees the new frame must also see the stream as live.
   last_frame_ns_ = popped_ns;
   if (state() == SourceState::kStalled) state_.store(SourceState::kStreaming);
+  got_first_frame_ = true;
   if (rebase_sequence_) {
     // Unsigned wrap-around arithmetic: the first frame after a reconnect follows the last one.
     sequence_offset_ = last_sequence_ + 1 - id.sequence;

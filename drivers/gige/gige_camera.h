@@ -36,8 +36,12 @@ struct GigeStats {
   uint64_t malformed = 0;          ///< wrong size / format / payload type, skipped
   uint64_t liveness_probes = 0;
   int last_bad_status = 0;
-  uint64_t reconnects = 0;  ///< times a lost camera answered again and streams anew  ///<
-                            ///< ArvBufferStatus of the newest bad buffer (0 = none yet)
+  uint64_t reconnects = 0;
+  /// Of bad_buffers, those before the first good frame of a start or reconnect (a stream that
+  /// began mid-frame, or a first frame Aravis timed out while the host was busy starting).
+  uint64_t bad_before_first_frame =
+      0;  ///< times a lost camera answered again and streams anew  ///<
+          ///< ArvBufferStatus of the newest bad buffer (0 = none yet)
 };
 
 /// Streams one GigE camera: open() negotiates region, pixel format, frame rate and packet size
@@ -79,6 +83,7 @@ class GigeCamera final : public CameraSource {
   int packet_size_bytes() const { return packet_size_bytes_; }
   int socket_buffer_bytes() const { return socket_buffer_bytes_; }
   std::size_t payload_bytes() const { return payload_bytes_; }
+  int buffer_count() const { return buffer_count_; }
   const std::string& address() const { return address_; }
 
  private:
@@ -105,6 +110,7 @@ class GigeCamera final : public CameraSource {
   int packet_size_bytes_ = 0;
   int socket_buffer_bytes_ = 0;
   std::size_t payload_bytes_ = 0;
+  int buffer_count_ = 0;
   ArvPixelFormat arv_format_ = 0;
 
   std::thread thread_;
@@ -129,6 +135,8 @@ class GigeCamera final : public CameraSource {
   std::atomic<uint64_t> probes_{0};
   std::atomic<int> last_bad_status_{0};
   std::atomic<uint64_t> reconnects_{0};
+  std::atomic<uint64_t> bad_before_first_{0};
+  bool got_first_frame_ = false;
   SpscRing<GigeHandoffTiming, 1024> timings_;
 };
 

@@ -23,10 +23,16 @@ struct GigeConfig {
   GigeRoi roi;
   double frame_rate_hz = 30.0;  ///< 0 keeps the camera's rate
   int packet_size_bytes = 0;    ///< 0: negotiate the largest the path carries
-  int buffer_count = 8;         ///< Aravis buffers allocated at start and recycled
+  /// Aravis buffers allocated at open and recycled. 0: enough for every frame that can be in
+  /// flight during `frame_retention_ns`, plus 4 (at least 8).
+  int buffer_count = 0;
   /// Kernel receive buffer for the stream socket; 0 sizes it for 100 ms of frames (at least 4
   /// frames), so a scheduling hiccup of the stream thread does not drop packets at 60 fps.
   int socket_buffer_bytes = 0;
+  /// How long Aravis keeps an incomplete frame waiting for missing (resent) packets before it
+  /// gives up with ARV_BUFFER_STATUS_TIMEOUT. Aravis's 100 ms default loses frames when a busy
+  /// host starves its stream thread; a late frame still carries its own timestamps.
+  int64_t frame_retention_ns = 300'000'000;
   int64_t stall_timeout_ns = 250'000'000;     ///< no frame for this long: stalled, then probed
   int64_t liveness_timeout_ns = 250'000'000;  ///< one GVCP probe's deadline
   /// Use Aravis's packet socket (a raw AF_PACKET receiver) when the process may. It never sees
