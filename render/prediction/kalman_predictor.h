@@ -14,8 +14,8 @@ struct KalmanParams {
   double orientation_noise_rad = 0.002;   ///< tracker orientation noise (1 sigma, per axis)
   double gyro_noise_rad_s = 0.02;         ///< tracker gyro noise (1 sigma, per axis)
   double position_noise_m = 0.0005;       ///< tracker position noise (1 sigma, per axis)
-  double angular_accel_psd = 30.0;        ///< rad/s^2 per sqrt(Hz)
-  double linear_accel_psd = 2.0;          ///< m/s^2 per sqrt(Hz)
+  double angular_accel_psd = 2.0;         ///< rad/s^2 per sqrt(Hz)
+  double linear_accel_psd = 0.2;          ///< m/s^2 per sqrt(Hz)
   double initial_angular_rate_rad_s = 2;  ///< prior sigma of omega before any data
   double initial_velocity_m_s = 1.0;      ///< prior sigma of v before any data
 };
