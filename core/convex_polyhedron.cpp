@@ -20,31 +20,37 @@ std::array<HalfSpace3, 6> box_planes(const WorkspaceBox& b) {
 
 }  // namespace
 
-ConvexPolyhedron ConvexPolyhedron::box_cut_by(const WorkspaceBox& box, const HalfSpace3* cuts,
-                                              int n_cuts, double tol_m) {
-  ConvexPolyhedron out;
-  out.box = box;
-  out.tol_m = tol_m;
-  if (!box.valid() || n_cuts < 0 || n_cuts > kMaxCuts) return out;
+int ConvexPolyhedron::cutting_planes(const WorkspaceBox& box, const HalfSpace3* cuts, int n_cuts,
+                                     double tol_m, std::array<HalfSpace3, kMaxCuts>& out) {
+  if (!box.valid() || n_cuts < 0 || n_cuts > kMaxCuts) return -1;
   const Eigen::Vector3d& lo = box.min_m;
   const Eigen::Vector3d& hi = box.max_m;
-  // Keep only the cuts that really cut the box: a half-space holding all 8 corners holds the box
-  // and changes nothing (usually both near planes); one holding none empties it.
-  std::array<HalfSpace3, kMaxCuts> unit{};
-  int n_unit = 0;
+  int n_out = 0;
   for (int i = 0; i < n_cuts; ++i) {
     const HalfSpace3 h = cuts[i].normalized();
-    if (!h.n.allFinite() || !std::isfinite(h.c)) return out;
+    if (!h.n.allFinite() || !std::isfinite(h.c)) return -1;
     int inside = 0;
     for (int k = 0; k < 8; ++k) {
       const Eigen::Vector3d corner(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(),
                                    k & 4 ? hi.z() : lo.z());
       inside += h.signed_distance(corner) >= -tol_m;
     }
-    if (inside == 0) return out;
-    if (inside < 8) unit[n_unit++] = h;
+    if (inside == 0) return -1;
+    if (inside < 8) out[n_out++] = h;
   }
-  n_cuts = n_unit;
+  return n_out;
+}
+
+ConvexPolyhedron ConvexPolyhedron::box_cut_by(const WorkspaceBox& box, const HalfSpace3* cuts,
+                                              int n_cuts, double tol_m) {
+  ConvexPolyhedron out;
+  out.box = box;
+  out.tol_m = tol_m;
+  std::array<HalfSpace3, kMaxCuts> unit;
+  n_cuts = cutting_planes(box, cuts, n_cuts, tol_m, unit);
+  if (n_cuts < 0) return out;
+  const Eigen::Vector3d& lo = box.min_m;
+  const Eigen::Vector3d& hi = box.max_m;
   const auto bp = box_planes(box);
 
   // Box faces: the face quad already satisfies the box planes, so only the cuts clip it.

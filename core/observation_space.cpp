@@ -36,12 +36,17 @@ double geometry_tolerance_m(const ViewSetup& s) {
   return 1e-12 * scale;
 }
 
-ConvexPolyhedron observation_space(const ViewSetup& s) {
-  if (!s.valid()) return {};
+std::array<HalfSpace3, 6> observation_space_cuts(const ViewSetup& s) {
   std::array<HalfSpace3, 6> cuts;
   const auto frustum = virtual_frustum_world(s);
   std::copy(frustum.begin(), frustum.end(), cuts.begin());
   cuts[5] = to_world(HalfSpace3{{0.0, 0.0, 1.0}, -s.near_m}, s.T_world_real);
+  return cuts;
+}
+
+ConvexPolyhedron observation_space(const ViewSetup& s) {
+  if (!s.valid()) return {};
+  const auto cuts = observation_space_cuts(s);
   return ConvexPolyhedron::box_cut_by(s.workspace, cuts.data(), 6, geometry_tolerance_m(s));
 }
 

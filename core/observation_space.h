@@ -16,6 +16,10 @@ std::array<HalfSpace3, 5> virtual_frustum_world(const ViewSetup& s);
 /// workspaces and vertices on a near plane survive rounding.
 double geometry_tolerance_m(const ViewSetup& s);
 
+/// The 6 world-frame half-spaces that cut the workspace box into W: the virtual frustum's 5 and
+/// the real camera's front z_c >= near.
+std::array<HalfSpace3, 6> observation_space_cuts(const ViewSetup& s);
+
 /// W = virtual frustum (4 sides + near) ∩ workspace box ∩ {z_c >= near} (DESIGN.md 2), in world
 /// coordinates. Empty for an invalid setup. No allocation.
 ConvexPolyhedron observation_space(const ViewSetup& s);

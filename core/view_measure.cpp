@@ -16,14 +16,18 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double max_error_at_vertices(const ViewSetup& s) {
   if (!s.valid()) return kInf;
-  const ConvexPolyhedron W = observation_space(s);
   const CameraPair pair(s);
   double e_max = 0.0;
-  W.for_each_vertex_once_per_box_face([&](const Eigen::Vector3d& X) {
-    const double e = pair.error_px(pair.real_from_world(X));
-    // NaN cannot arise from a valid setup; if it ever did, "unusable" is the safe reading.
-    e_max = std::isnan(e) ? kInf : std::max(e_max, e);
-  });
+  // W's vertices straight from the half-spaces: building W's face polygons (observation_space)
+  // costs several times more and the maximum needs only the vertices.
+  const auto cuts = observation_space_cuts(s);
+  ConvexPolyhedron::for_each_vertex_of_box_cut(
+      s.workspace, cuts.data(), static_cast<int>(cuts.size()), geometry_tolerance_m(s),
+      [&](const Eigen::Vector3d& X) {
+        const double e = pair.error_px(pair.real_from_world(X));
+        // NaN cannot arise from a valid setup; if it ever did, "unusable" is the safe reading.
+        e_max = std::isnan(e) ? kInf : std::max(e_max, e);
+      });
   return e_max;
 }
 
