@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "core/allocation_counter.h"
 #include "drivers/mock/mock_camera.h"
 #include "drivers/mock/mock_pose_source.h"
 #include "render/compositor/cpu_compositor.h"
@@ -29,57 +30,7 @@
 #include "render/prediction/kalman_predictor.h"
 #include "render/station/command.h"
 
-// Allocation counting for the summary: a replacement global operator new that counts only on a
-// thread that has switched counting on (the render thread, inside a tick). Elsewhere it is
-// plain malloc.
-namespace {
-thread_local bool t_count_allocations = false;
-std::atomic<uint64_t> g_tick_allocations{0};
-void* station_alloc(std::size_t n, std::size_t align) {
-  if (t_count_allocations) g_tick_allocations.fetch_add(1, std::memory_order_relaxed);
-  void* p = align > alignof(std::max_align_t)
-                ? std::aligned_alloc(align, (n + align - 1) / align * align)
-                : std::malloc(n ? n : 1);
-  if (!p) throw std::bad_alloc();
-  return p;
-}
-}  // namespace
-void* operator new(std::size_t n) {
-  return station_alloc(n, 0);
-}
-void* operator new[](std::size_t n) {
-  return station_alloc(n, 0);
-}
-void* operator new(std::size_t n, std::align_val_t a) {
-  return station_alloc(n, static_cast<std::size_t>(a));
-}
-void* operator new[](std::size_t n, std::align_val_t a) {
-  return station_alloc(n, static_cast<std::size_t>(a));
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
+// The summary counts allocations on the render thread inside a tick (hd_allocation_counter).
 
 namespace hd::station {
 namespace {
@@ -241,9 +192,9 @@ class RunWork final : public render::FrameWork {
         compositor_(compositor),
         windowed_(windowed) {}
   void tick(const render::FrameTiming& t) override {
-    t_count_allocations = t.frame >= warmup_;
+    core::count_allocations_on_this_thread(t.frame >= warmup_);
     frame_.tick(t);
-    t_count_allocations = false;
+    core::count_allocations_on_this_thread(false);
     if (t.frame == 0 || t.frame == frames_ / 2 || t.frame + 1 == frames_) {
       // Snapshots are for people; the missed deadline they cause on those frames is counted.
       char name[64];
@@ -421,7 +372,7 @@ int run(const RunOptions& o) {
   for (uint64_t n : frame.frames_fetched()) std::printf(" %" PRIu64, n);
   std::printf("\n  allocations on the render thread after %" PRIu64 " warm-up frames: %" PRIu64
               "\n",
-              o.warmup, g_tick_allocations.load());
+              o.warmup, core::counted_allocations());
   std::printf("  wrote %s/{latency.csv,latency.png,frames.csv,frame_*.png}\n", o.out_dir.c_str());
   return 0;
 }

@@ -1,5 +1,6 @@
-// The per-frame decision allocates nothing: the global operator new/delete are replaced in this
-// binary and counted while measure_view + Transition::update + video_weight run.
+// The per-frame decision allocates nothing: this program links hd_allocation_counter, which
+// replaces the global operator new and counts every call while measure_view + Transition::update +
+// video_weight run.
 
 #include <gtest/gtest.h>
 
@@ -7,45 +8,17 @@
 #include <cstdlib>
 #include <new>
 
+#include "core/allocation_counter.h"
 #include "core/blend_weights.h"
 #include "core/transition.h"
 #include "core/view_measure.h"
 #include "setups.h"
 
-// GCC 12 with -fsanitize inlines gtest's delete into this replacement and then flags malloc/free
-// as a new/delete mismatch; the pairing here is malloc/free on both sides, so silence it.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  return operator new(n);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
-
 TEST(Allocation, CounterSeesAnAllocation) {
-  const long before = g_allocations.load();
+  const long before = static_cast<long>(hd::core::counted_allocations());
   void* p = ::operator new(sizeof(int));  // a direct call cannot be elided, unlike new-expressions
   ::operator delete(p);
-  EXPECT_EQ(g_allocations.load() - before, 1);
+  EXPECT_EQ(static_cast<long>(hd::core::counted_allocations()) - before, 1);
 }
 
 TEST(Allocation, PerFrameDecisionAllocatesNothing) {
@@ -54,7 +27,7 @@ TEST(Allocation, PerFrameDecisionAllocatesNothing) {
   Transition t({});
   t.update(10, 0.01);  // warm-up
   double sink = 0;
-  const long before = g_allocations.load();
+  const long before = static_cast<long>(hd::core::counted_allocations());
   for (int i = 0; i < 200; ++i) {
     s.T_world_virt.t.x() = 0.001 * i;
     s.T_world_virt.R = test::rot(0.002 * i, 0.001 * i, 0);
@@ -62,12 +35,13 @@ TEST(Allocation, PerFrameDecisionAllocatesNothing) {
     const TransitionState st = t.update(vm.m, 0.011);
     sink += st.w_video + video_weight(vm.m, 40, 10) + vm.region.u_min;
   }
-  const long after = g_allocations.load();
+  const long after = static_cast<long>(hd::core::counted_allocations());
   EXPECT_EQ(after - before, 0);
   EXPECT_TRUE(std::isfinite(sink));
 }
 
 int main(int argc, char** argv) {
+  hd::core::count_allocations_on_all_threads(true);
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }

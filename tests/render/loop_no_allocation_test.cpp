@@ -1,6 +1,6 @@
 // The whole station frame (mock camera + mock pose source + CPU compositor + prediction +
 // selection + transition + latency) allocates nothing on the render thread after warm-up.
-// A global operator new replacement counts allocations made by this thread while enabled.
+// hd_allocation_counter counts operator new on this thread while enabled.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -8,62 +8,12 @@
 #include <cstdlib>
 #include <new>
 
+#include "core/allocation_counter.h"
 #include "drivers/mock/mock_camera.h"
 #include "drivers/mock/mock_pose_source.h"
 #include "render/compositor/cpu_compositor.h"
 #include "render/loop/station_frame.h"
 #include "render/prediction/kalman_predictor.h"
-
-namespace {
-thread_local bool t_counting = false;
-std::atomic<uint64_t> g_allocations{0};
-
-void* counted_alloc(std::size_t n, std::size_t align) {
-  if (t_counting) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  void* p = align > alignof(std::max_align_t)
-                ? std::aligned_alloc(align, (n + align - 1) / align * align)
-                : std::malloc(n ? n : 1);
-  if (!p) throw std::bad_alloc();
-  return p;
-}
-}  // namespace
-
-void* operator new(std::size_t n) {
-  return counted_alloc(n, 0);
-}
-void* operator new[](std::size_t n) {
-  return counted_alloc(n, 0);
-}
-void* operator new(std::size_t n, std::align_val_t a) {
-  return counted_alloc(n, static_cast<std::size_t>(a));
-}
-void* operator new[](std::size_t n, std::align_val_t a) {
-  return counted_alloc(n, static_cast<std::size_t>(a));
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
 
 namespace hd::render {
 namespace {
@@ -73,9 +23,9 @@ class CountingWork final : public FrameWork {
  public:
   explicit CountingWork(FrameWork& inner) : inner_(inner) {}
   void tick(const FrameTiming& t) override {
-    t_counting = counting;
+    hd::core::count_allocations_on_this_thread(counting);
     inner_.tick(t);
-    t_counting = false;
+    hd::core::count_allocations_on_this_thread(false);
   }
   bool counting = false;
 
@@ -142,19 +92,19 @@ TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
 
   loop.run(30, work);  // warm-up: first draws size the compositor's buffers
   work.counting = true;
-  g_allocations = 0;
+  hd::core::reset_counted_allocations();
   loop.run(300, work);
   work.counting = false;
-  const uint64_t allocations = g_allocations.load();
+  const uint64_t allocations = hd::core::counted_allocations();
   // The HUD line is formatted every frame in the windowed station: it must not allocate either.
-  t_counting = true;
+  hd::core::count_allocations_on_this_thread(true);
   const auto hud = latency.hud_line();
-  t_counting = false;
+  hd::core::count_allocations_on_this_thread(false);
   camera.stop();
   pose.stop();
 
   EXPECT_EQ(allocations, 0u);
-  EXPECT_EQ(g_allocations.load(), 0u) << hud;
+  EXPECT_EQ(hd::core::counted_allocations(), 0u) << hud;
   // The loop really ran the pipeline: frames drawn, poses consumed, video fetched.
   EXPECT_EQ(frame.rows().size(), 330u);
   EXPECT_EQ(compositor.stats().frames_drawn, 660u);  // two eyes per frame
