@@ -6,10 +6,12 @@
 
 #include "calib/atomic_file.h"
 #include "calib/calibration_file.h"
+#include "calib/camera_factory.h"
 #include "calib/commands.h"
 #include "calib/corner_detector.h"
 #include "calib/image_set.h"
 #include "calib/intrinsics_assessment.h"
+#include "calib/live_capture.h"
 #include "calib/report_image.h"
 
 namespace hd::calib {
@@ -21,6 +23,8 @@ struct Args {
   double square_m = 0;
   bool fix_aspect = false, force = false;
   double timeout_s = 5.0;
+  int frames = 600;         ///< live: stop after examining this many frames
+  double duration_s = 120;  ///< live: stop after this long (also the no-frame deadline)
 };
 
 void print_summary(const IntrinsicsReport& rep) {
@@ -55,6 +59,73 @@ void print_summary(const IntrinsicsReport& rep) {
     std::printf("WARNING [%s] %s\n", w.code.c_str(), w.message.c_str());
 }
 
+int calibrate_and_write(const Args& a, const Board& board, const DistortionModel& model,
+                        const std::vector<View>& views, cv::Size image_size,
+                        const cv::Mat& background);
+
+// Live views from --camera; progress goes to the terminal, one line per examined frame.
+int run_live(const Args& a, const Board& board, const DistortionModel& model) {
+  if (a.frames <= 0 || !(a.duration_s > 0)) {
+    std::fprintf(stderr, "error: --frames and --duration must be > 0\n");
+    return kBadInput;
+  }
+  std::unique_ptr<drivers::CameraSource> cam;
+  try {
+    cam = make_camera_source(a.camera);
+    cam->open();
+    cam->start();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: cannot open camera %s: %s\n", a.camera.c_str(), e.what());
+    return kBadInput;
+  }
+  LiveOptions opt;
+  opt.detector.timeout = std::chrono::milliseconds(static_cast<long>(a.timeout_s * 1000));
+  opt.max_duration = std::chrono::milliseconds(static_cast<long>(a.duration_s * 1000));
+  const auto deadline = std::chrono::steady_clock::now() + opt.max_duration;
+  cv::Mat background;
+  int shown = 0;
+  std::printf("live capture from %s: need %d varied views of the %dx%d board\n", a.camera.c_str(),
+              opt.target_views, board.cols, board.rows);
+  std::fflush(stdout);
+  const LiveResult res = collect_live_views(*cam, board, opt, [&](const LiveStatus& st) {
+    std::printf("%s\n", st.message.c_str());
+    std::fflush(stdout);
+    if (background.empty() && st.gray && st.corners && !st.corners->empty())
+      background = st.gray->clone();
+    return ++shown < a.frames && std::chrono::steady_clock::now() < deadline;
+  });
+  const uint64_t dropped = cam->dropped_frames();
+  cam->stop();
+  cam.reset();
+  std::printf(
+      "examined %d frames from %s (%d rejected, %llu dropped by the driver), kept %zu "
+      "views%s\n",
+      res.frames_examined, a.camera.c_str(), res.frames_rejected,
+      static_cast<unsigned long long>(dropped), res.views.size(), res.enough ? ", enough" : "");
+  if (res.frames_examined == 0) {
+    std::fprintf(stderr, "error: camera %s delivered no frame within %.1f s; nothing written\n",
+                 a.camera.c_str(), a.duration_s);
+    return kFailed;
+  }
+  if (res.views.empty()) {
+    std::fprintf(stderr,
+                 "error: no %dx%d board found in any of the %d frames from camera %s (is "
+                 "--board the number of INNER corners, columns x rows?); nothing written\n",
+                 board.cols, board.rows, res.frames_examined, a.camera.c_str());
+    return kFailed;
+  }
+  if (res.views.size() < 3) {
+    std::fprintf(stderr,
+                 "error: only %zu varied views kept from %d frames of camera %s; need >= 3; "
+                 "nothing written\n",
+                 res.views.size(), res.frames_examined, a.camera.c_str());
+    return kFailed;
+  }
+  if (!res.enough)
+    std::printf("note: stopped before the views were varied enough; see the warnings\n");
+  return calibrate_and_write(a, board, model, res.views, res.image_size, background);
+}
+
 int run(const Args& a) {
   Board board;
   DistortionModel model;
@@ -76,11 +147,9 @@ int run(const Args& a) {
     return kOutputExists;
   }
   if (!a.camera.empty()) {
-    std::fprintf(stderr,
-                 "error: --camera %s: live capture needs a camera driver (drivers/v4l2, "
-                 "drivers/gige), and none is built into this hybrid-calib\n",
-                 a.camera.c_str());
-    return kBadInput;
+    const int code = run_live(a, board, model);
+    shutdown_camera_drivers();
+    return code;
   }
   std::vector<NamedImage> images;
   try {
@@ -125,9 +194,15 @@ int run(const Args& a) {
                  views.size(), n, a.images.c_str());
     return kFailed;
   }
+  return calibrate_and_write(a, board, model, views, images.front().gray.size(), background);
+}
+
+int calibrate_and_write(const Args& a, const Board& board, const DistortionModel& model,
+                        const std::vector<View>& views, cv::Size image_size,
+                        const cv::Mat& background) {
   IntrinsicsReport rep;
   try {
-    rep = assess_intrinsics(views, board, images.front().gray.size(), model);
+    rep = assess_intrinsics(views, board, image_size, model);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: calibration failed: %s\n", e.what());
     return kFailed;
@@ -164,7 +239,9 @@ void add_intrinsics_command(CLI::App& app, int& exit_code) {
   auto* src = cmd->add_option("--images", args->images, "folder of chessboard images");
   cmd->add_option("--pattern", args->pattern, "only files whose name matches, e.g. 'left*'")
       ->capture_default_str();
-  auto* cam = cmd->add_option("--camera", args->camera, "live camera id (needs a driver)");
+  auto* cam = cmd->add_option("--camera", args->camera,
+                              "live camera: /dev/videoN, mock[:WxH] or a GigE id "
+                              "(e.g. Aravis-Fake-SERIAL)");
   src->excludes(cam);
   cmd->add_option("--board", args->board, "inner corners COLSxROWS, e.g. 9x6")->required();
   cmd->add_option("--square", args->square_m, "square size in metres, e.g. 0.025")->required();
@@ -176,6 +253,10 @@ void add_intrinsics_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--report", args->report, "report picture (PNG)");
   cmd->add_option("--ros", args->ros, "also write ROS camera_info YAML");
   cmd->add_option("--timeout", args->timeout_s, "per-image detection deadline, seconds")
+      ->capture_default_str();
+  cmd->add_option("--frames", args->frames, "live: stop after examining this many frames")
+      ->capture_default_str();
+  cmd->add_option("--duration", args->duration_s, "live: stop after this many seconds")
       ->capture_default_str();
   cmd->add_flag("--force", args->force, "replace existing outputs (old ones kept as .bak)");
   cmd->footer(

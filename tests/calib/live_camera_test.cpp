@@ -1,0 +1,91 @@
+// hybrid-calib intrinsics --camera end to end through the camera factory: Aravis's fake GigE
+// camera as a real protocol peer, and ids that name no device.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "calib/camera_factory.h"
+#include "test_support.h"
+#include "tests/drivers/gige/fake_gige_camera.h"
+
+namespace hd::calib {
+namespace {
+
+using test::q;
+using test::run_cli;
+using test::ScratchDir;
+
+const std::string kBoardArgs = "--board 9x6 --square 0.025";
+
+TEST(CameraFactory, ChoosesTheDriverFromTheId) {
+  EXPECT_EQ(camera_kind("/dev/video0"), CameraKind::kV4l2);
+  EXPECT_EQ(camera_kind("/dev/video12"), CameraKind::kV4l2);
+  EXPECT_EQ(camera_kind("mock"), CameraKind::kMock);
+  EXPECT_EQ(camera_kind("mock:320x240"), CameraKind::kMock);
+  EXPECT_EQ(camera_kind("Aravis-Fake-CALIB"), CameraKind::kGige);
+  EXPECT_EQ(camera_kind("192.168.1.20"), CameraKind::kGige);
+  EXPECT_EQ(camera_kind("mockery"), CameraKind::kGige);  // not "mock" nor "mock:"
+  EXPECT_EQ(make_camera_source("/dev/video7")->id(), "/dev/video7");
+  EXPECT_EQ(make_camera_source("Aravis-Fake-CALIB")->id(), "Aravis-Fake-CALIB");
+  EXPECT_EQ(make_camera_source("mock:320x240")->id(), "mock:320x240");
+  for (const char* bad :
+       {"mock:", "mock:0x240", "mock:320x", "mock:x240", "mock:32ax240", "mock:99999x99999"})
+    EXPECT_THROW(make_camera_source(bad), std::invalid_argument) << bad;
+}
+
+// The fake camera streams a test pattern, not a chessboard: the honest outcome is frames
+// received and counted, "no board", a non-zero exit and no output file.
+TEST(LiveCalibration, FakeGigeCameraFramesAreCountedAndNoBoardIsReported) {
+  drivers::testing::FakeGigeCamera fake("CALIB");
+  ScratchDir dir;
+  const auto out = dir.path() / "cam.yml";
+  const auto r = run_cli("intrinsics --camera Aravis-Fake-CALIB " + kBoardArgs +
+                         " --frames 8 --duration 30 --out " + q(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  // One progress line per examined frame, numbered 1..8 (the tool stops at --frames).
+  for (int i = 1; i <= 8; ++i)
+    EXPECT_NE(r.output.find("[0/15] frame " + std::to_string(i) + ": no board"), std::string::npos)
+        << "frame " << i << "\n"
+        << r.output;
+  EXPECT_EQ(r.output.find("frame 9:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("examined 8 frames from Aravis-Fake-CALIB (0 rejected"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("no 9x6 board found in any of the 8 frames from camera "
+                          "Aravis-Fake-CALIB"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(dir.listing().empty()) << r.output;
+}
+
+TEST(LiveCalibration, UnknownGigeIdIsAClearError) {
+  ScratchDir dir;
+  const auto r = run_cli("intrinsics --camera No-Such-Camera-42 " + kBoardArgs + " --out " +
+                         q(dir.path() / "cam.yml"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("error: cannot open camera No-Such-Camera-42"), std::string::npos)
+      << r.output;
+  EXPECT_TRUE(dir.listing().empty());
+}
+
+TEST(LiveCalibration, MissingVideoNodeIsAClearError) {
+  ScratchDir dir;
+  const auto r = run_cli("intrinsics --camera /dev/video99 " + kBoardArgs + " --out " +
+                         q(dir.path() / "cam.yml"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("error: cannot open camera /dev/video99"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("No such file or directory"), std::string::npos) << r.output;
+  EXPECT_TRUE(dir.listing().empty());
+}
+
+TEST(LiveCalibration, MalformedMockIdIsAClearError) {
+  ScratchDir dir;
+  const auto r =
+      run_cli("intrinsics --camera mock:12 " + kBoardArgs + " --out " + q(dir.path() / "cam.yml"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("mock:WxH"), std::string::npos) << r.output;
+  EXPECT_TRUE(dir.listing().empty());
+}
+
+}  // namespace
+}  // namespace hd::calib
