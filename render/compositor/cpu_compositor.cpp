@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "core/blend_weights.h"
+#include "render/compositor/border_weight.h"
 #include "render/compositor/packed_rgba.h"
 #include "render/compositor/request_check.h"
 
@@ -107,11 +107,8 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
   const double w_video =
       std::isnan(req.transition.w_video) ? 0.0 : std::clamp(req.transition.w_video, 0.0, 1.0);
   const bool per_pixel = req.mode == core::TransitionMode::kPerPixel;
-  // Inside the inner rectangle |1 - 2u/W| <= 1 - kappa' the continuous weight is exactly its
-  // strength min(1, 2 w); only the border band needs core's full formula.
-  const double strength = std::min(1.0, 2.0 * w_video);
-  const double inner = 1.0 - std::min(1.0, 2.0 * (1.0 - w_video));
-  const bool any_video = video_on_ && (per_pixel ? strength > 0.0 : w_video > 0.0);
+  const bool any_video =
+      video_on_ && (per_pixel ? std::min(1.0, 2.0 * w_video) > 0.0 : w_video > 0.0);
 
   const drivers::Frame* vf = req.video;
   const int vw = any_video ? vf->width : 0;
@@ -122,6 +119,8 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
   const bool nearest = req.sampling == VideoSampling::kNearest;
   const double inv_near = 1.0 / req.near_m;
   const Eigen::Matrix3d& H = warp_.H;
+  // core::continuous_pixel_weight without its per-pixel call, divisions and sin (a table).
+  const BorderWeight border(w_video, std::max(vwd, 1.0), std::max(vhd, 1.0));
 
   const Eigen::Vector3d& q = warp_.inv_depth;
 
@@ -156,16 +155,8 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
         sa[x] = in ? wv : 0.0f;
       }
       if (per_pixel) {
-        // Inside the inner rectangle |1 - 2u/W| <= 1 - kappa' the continuous weight is exactly
-        // its strength min(1, 2 w); only the border band needs core's full formula.
         for (int x = 0; x < W; ++x) {
-          if (sa[x] <= 0.0f) continue;
-          const double u = su[x], w = sv[x];
-          const double xr = std::abs(1.0 - 2.0 * u / vwd);
-          const double yr = std::abs(1.0 - 2.0 * w / vhd);
-          sa[x] = static_cast<float>((xr <= inner && yr <= inner)
-                                         ? strength
-                                         : core::continuous_pixel_weight(w_video, u, w, vwd, vhd));
+          if (sa[x] > 0.0f) sa[x] = border(su[x], sv[x]);
         }
       }
     }
@@ -188,20 +179,27 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
           const int Y = static_cast<int>(w * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
           const int x0 = X >> 8, fx = X & 255;  // arithmetic shift: floor, also below 0
           const int y0 = Y >> 8, fy = Y & 255;
-          const int xa = std::max(x0, 0), xb = std::min(x0 + 1, vw - 1);
-          const int ya = std::max(y0, 0), yb = std::min(y0 + 1, vh - 1);
-          const uint8_t* r0 = vdata + static_cast<long>(ya) * vstride;
-          const uint8_t* r1 = vdata + static_cast<long>(yb) * vstride;
-          uint32_t c00, c10, c01, c11;
-          std::memcpy(&c00, r0 + 4 * xa, 4);
-          std::memcpy(&c10, r0 + 4 * xb, 4);
-          std::memcpy(&c01, r1 + 4 * xa, 4);
-          std::memcpy(&c11, r1 + 4 * xb, 4);
-          video = lerp_rgba(lerp_rgba(c00, c10, fx), lerp_rgba(c01, c11, fx), fy);
+          if (static_cast<unsigned>(x0) < static_cast<unsigned>(vw - 1) &&
+              static_cast<unsigned>(y0) < static_cast<unsigned>(vh - 1)) {
+            // All four texels inside (nearly every pixel): no clamping.
+            video =
+                bilinear_rgba(vdata + static_cast<long>(y0) * vstride + 4 * x0, vstride, fx, fy);
+          } else {
+            const int xa = std::max(x0, 0), xb = std::min(x0 + 1, vw - 1);
+            const int ya = std::max(y0, 0), yb = std::min(y0 + 1, vh - 1);
+            const uint8_t* r0 = vdata + static_cast<long>(ya) * vstride;
+            const uint8_t* r1 = vdata + static_cast<long>(yb) * vstride;
+            uint32_t c00, c10, c01, c11;
+            std::memcpy(&c00, r0 + 4 * xa, 4);
+            std::memcpy(&c10, r0 + 4 * xb, 4);
+            std::memcpy(&c01, r1 + 4 * xa, 4);
+            std::memcpy(&c11, r1 + 4 * xb, 4);
+            video = lerp_rgba(lerp_rgba(c00, c10, fx), lerp_rgba(c01, c11, fx), fy);
+          }
         }
         if (a >= 1.0f) {  // pure video: no need for the model's colour
+          video |= 0xFF000000u;
           std::memcpy(o, &video, 4);
-          o[3] = 255;
           continue;
         }
       }
