@@ -69,8 +69,8 @@ struct ConvexPolyhedron {
   /// box face (the box faces clipped by the cuts, quads and cheap) or strictly inside the box,
   /// where it is the meeting point of three cut planes; the latter are found by solving each triple
   /// instead of clipping a polygon on every cut plane by 6 box planes and the other cuts, which was
-  /// most of the per-frame time. Vertices may be visited more than once (harmless for maxima).
-  /// Returns false when the polyhedron is empty.
+  /// most of the per-frame time. Vertices may still be visited more than once (harmless for
+  /// maxima). Returns false when the polyhedron is empty.
   template <class F>
   static bool for_each_vertex_of_box_cut(const WorkspaceBox& box, const HalfSpace3* cuts,
                                          int n_cuts, double tol_m, F&& f);
@@ -102,8 +102,15 @@ bool ConvexPolyhedron::for_each_vertex_of_box_cut(const WorkspaceBox& box, const
         q.push_back(p);
       }
       for (int i = 0; i < n && !q.empty(); ++i) q.clip(unit[i], tol_m);
-      for (int k = 0; k < q.size(); ++k) f(q[k]);
       any = any || !q.empty();
+      for (int k = 0; k < q.size(); ++k) {
+        // A vertex on a box plane of a lower axis is a vertex of that axis' face polygon too and
+        // was visited there: skipping it visits box corners once instead of three times.
+        bool seen = false;
+        for (int b = 0; b < a && !seen; ++b)
+          seen = std::abs(q[k][b] - lo[b]) <= tol_m || std::abs(q[k][b] - hi[b]) <= tol_m;
+        if (!seen) f(q[k]);
+      }
     }
   }
   // Interior vertices: three cut planes meeting inside the box and inside every other cut.

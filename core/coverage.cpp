@@ -12,6 +12,10 @@ double coverage(const ViewSetup& s) {
   const CameraPair pair(s);
   VideoQuad quad = video_quad_in_virtual(pair);
   clip_to_virtual_frustum(quad, s);
+  return coverage_of_clipped_quad(quad, s);
+}
+
+double coverage_of_clipped_quad(const VideoQuad& quad, const ViewSetup& s) {
   if (quad.size() < 3) return 0.0;
   // Shoelace on coordinates relative to the first vertex and to the principal point, so a tiny
   // quad far from the origin keeps its digits.

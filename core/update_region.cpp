@@ -12,6 +12,11 @@ std::optional<PixelRect> update_region(const ViewSetup& s) {
   const CameraPair pair(s);
   VideoQuad quad = video_quad_in_virtual(pair);
   clip_to_virtual_frustum(quad, s);
+  return region_of_clipped_quad(quad, pair);
+}
+
+std::optional<PixelRect> region_of_clipped_quad(const VideoQuad& quad, const CameraPair& pair) {
+  const ViewSetup& s = pair.setup();
   if (quad.empty()) return std::nullopt;
   PixelRect r{INFINITY, INFINITY, -INFINITY, -INFINITY};
   const Pinhole& kr = s.real;

@@ -7,6 +7,7 @@
 #include "core/coverage.h"
 #include "core/observation_space.h"
 #include "core/update_region.h"
+#include "core/video_quad.h"
 
 namespace hd::core {
 
@@ -35,9 +36,13 @@ ViewMeasure measure_view(const ViewSetup& s) {
   if (!s.valid()) return {kInf, 0.0, kInf, false, {}};
   ViewMeasure vm{};
   vm.e_max_px = max_error_at_vertices(s);
-  vm.coverage = coverage(s);
+  // One video quad serves both coverage and the region.
+  const CameraPair pair(s);
+  VideoQuad quad = video_quad_in_virtual(pair);
+  clip_to_virtual_frustum(quad, s);
+  vm.coverage = coverage_of_clipped_quad(quad, s);
   vm.m = (vm.coverage > 0.0 && std::isfinite(vm.e_max_px)) ? vm.e_max_px / vm.coverage : kInf;
-  if (const auto r = update_region(s)) {
+  if (const auto r = region_of_clipped_quad(quad, pair)) {
     vm.has_region = true;
     vm.region = *r;
   }
