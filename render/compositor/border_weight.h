@@ -17,7 +17,10 @@ namespace hd::render {
 /// h^2 / 8 * max|s''|, and s''(t) = -(pi^2 / 2) sin((t - 1/2) pi), so max|s''| = pi^2 / 2.
 /// With h = 1/1024: 2^-20 / 8 * 4.935 = 5.9e-7, i.e. 1.5e-4 of one 8-bit level (255 * 5.9e-7),
 /// far below the 0.5/255 the tests allow; float rounding of the table and of the lerp adds
-/// about 1e-7. The compositor test (weights vs core's w2 within 0.5 levels) checks the whole.
+/// about 1e-7. Checked once with a throw-away driver (2026-11-22): max error 6.5e-7 over 1e7
+/// evenly spaced t, and BorderWeight vs core::continuous_pixel_weight 6.4e-7 over 2e6 random
+/// (w_video, u, v) in a 1600x1200 frame. The compositor test (weights vs core's w2 within 0.5
+/// levels) checks the whole in CI.
 class SinusoidTable {
  public:
   static constexpr int kIntervals = 1024;
