@@ -34,6 +34,17 @@ struct Pinhole {
     return {(uv.x() - cx) / fx, (uv.y() - cy) / fy, 1.0};
   }
 
+  /// Square pixels (fx = fy = f) with the principal point at the image centre.
+  static Pinhole centred(double f, int width_px, int height_px) {
+    Pinhole k;
+    k.fx = k.fy = f;
+    k.cx = width_px / 2.0;
+    k.cy = height_px / 2.0;
+    k.width = width_px;
+    k.height = height_px;
+    return k;
+  }
+
   /// Finite, positive focal lengths and a non-empty image.
   bool valid() const;
 

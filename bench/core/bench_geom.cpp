@@ -36,13 +36,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 volatile double g_sink = 0;
 
 Pinhole pinhole(double f, int w, int h) {
-  Pinhole k;
-  k.fx = k.fy = f;
-  k.cx = w / 2.0;
-  k.cy = h / 2.0;
-  k.width = w;
-  k.height = h;
-  return k;
+  return Pinhole::centred(f, w, h);
 }
 
 Eigen::Matrix3d rot(double yaw, double pitch, double roll) {

@@ -19,13 +19,7 @@ using hd::core::Pinhole;
 using hd::core::ViewSetup;
 
 Pinhole pinhole(double f, int w, int h) {
-  Pinhole k;
-  k.fx = k.fy = f;
-  k.cx = w / 2.0;
-  k.cy = h / 2.0;
-  k.width = w;
-  k.height = h;
-  return k;
+  return Pinhole::centred(f, w, h);
 }
 
 bool sees(const Pinhole& k, const hd::core::Pose& T, const Eigen::Vector3d& X, double near) {

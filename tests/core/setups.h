@@ -10,13 +10,7 @@
 namespace hd::core::test {
 
 inline Pinhole pinhole(double f, int w, int h) {
-  Pinhole k;
-  k.fx = k.fy = f;
-  k.cx = w / 2.0;
-  k.cy = h / 2.0;
-  k.width = w;
-  k.height = h;
-  return k;
+  return Pinhole::centred(f, w, h);
 }
 
 /// The issue #2 example: real 1600x1200 f=2000 at the origin, virtual 800x600 f=1000 at x=0.02,

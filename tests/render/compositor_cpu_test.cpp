@@ -47,13 +47,7 @@ using hd::render::SyntheticScene;
 using hd::render::TexturedMesh;
 
 Pinhole pinhole(double f, int w, int h) {
-  Pinhole p;
-  p.fx = p.fy = f;
-  p.cx = w / 2.0;
-  p.cy = h / 2.0;
-  p.width = w;
-  p.height = h;
-  return p;
+  return Pinhole::centred(f, w, h);
 }
 
 Pose turned(double yaw_rad, const Eigen::Vector3d& t) {

@@ -29,13 +29,7 @@ using hd::render::GlCompositor;
 using hd::render::ImageRgba8;
 
 Pinhole pinhole(double f, int w, int h) {
-  Pinhole p;
-  p.fx = p.fy = f;
-  p.cx = w / 2.0;
-  p.cy = h / 2.0;
-  p.width = w;
-  p.height = h;
-  return p;
+  return Pinhole::centred(f, w, h);
 }
 
 Pose look(double yaw_deg, double pitch_deg, const Eigen::Vector3d& t) {
