@@ -2,20 +2,13 @@
 
 #include <array>
 
+#include "drivers/convert/plane_span.h"
+
 namespace hd::drivers {
 
 namespace {
 
 enum Channel : uint8_t { kR = 0, kG = 1, kB = 2 };
-
-// The last row needs only its own bytes: drivers size buffers as stride * (h - 1) + row.
-bool span_ok(std::size_t len, int height_px, int stride_bytes, int row_bytes) {
-  if (stride_bytes < row_bytes) return false;
-  const auto need =
-      static_cast<std::size_t>(stride_bytes) * static_cast<std::size_t>(height_px - 1) +
-      static_cast<std::size_t>(row_bytes);
-  return len >= need;
-}
 
 // Colour of the 2x2 cell positions (x&1) + 2*(y&1), in GenICam naming (top-left first).
 bool cell_colours(PixelFormat pattern, std::array<Channel, 4>& out) {
@@ -61,8 +54,8 @@ bool bayer_to_rgba(PixelFormat pattern, const uint8_t* src, std::size_t src_len,
   if (!cell_colours(pattern, colours)) return false;
   if (src == nullptr || dst == nullptr || width_px < 2 || height_px < 2) return false;
   if (width_px > (1 << 28)) return false;  // 4 * width must not overflow int
-  if (!span_ok(src_len, height_px, src_stride_bytes, width_px)) return false;
-  if (!span_ok(dst_len, height_px, dst_stride_bytes, width_px * 4)) return false;
+  if (!plane_fits(src_len, height_px, src_stride_bytes, width_px)) return false;
+  if (!plane_fits(dst_len, height_px, dst_stride_bytes, width_px * 4)) return false;
 
   const auto row = [&](int y) {
     return src + static_cast<std::size_t>(y) * static_cast<std::size_t>(src_stride_bytes);

@@ -1,26 +1,15 @@
 #include "drivers/convert/rgb8_to_rgba.h"
 
+#include "drivers/convert/plane_span.h"
+
 namespace hd::drivers {
-
-namespace {
-
-// The last row needs only its own bytes: drivers size buffers as stride * (h - 1) + row.
-bool span_ok(std::size_t len, int height_px, int stride_bytes, int row_bytes) {
-  if (stride_bytes < row_bytes) return false;
-  const auto need =
-      static_cast<std::size_t>(stride_bytes) * static_cast<std::size_t>(height_px - 1) +
-      static_cast<std::size_t>(row_bytes);
-  return len >= need;
-}
-
-}  // namespace
 
 bool rgb8_to_rgba(const uint8_t* src, std::size_t src_len, int width_px, int height_px,
                   int src_stride_bytes, uint8_t* dst, std::size_t dst_len, int dst_stride_bytes) {
   if (src == nullptr || dst == nullptr || width_px <= 0 || height_px <= 0) return false;
   if (width_px > (1 << 28)) return false;  // 4 * width must not overflow int
-  if (!span_ok(src_len, height_px, src_stride_bytes, width_px * 3)) return false;
-  if (!span_ok(dst_len, height_px, dst_stride_bytes, width_px * 4)) return false;
+  if (!plane_fits(src_len, height_px, src_stride_bytes, width_px * 3)) return false;
+  if (!plane_fits(dst_len, height_px, dst_stride_bytes, width_px * 4)) return false;
   for (int y = 0; y < height_px; ++y) {
     const uint8_t* s =
         src + static_cast<std::size_t>(y) * static_cast<std::size_t>(src_stride_bytes);
