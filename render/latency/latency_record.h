@@ -10,12 +10,17 @@ namespace hd::render {
 ///   motion-to-photon to swap    = swap_ns - pose_sample_ns
 ///   motion-to-photon to display = predicted_display_ns - pose_sample_ns
 ///   video age                   = predicted_display_ns - video_ns (how old the video looks)
+///   model age                   = predicted_display_ns - model_capture_ns (how old the synthetic
+///                                 model's textures look: the paper's delayed model)
 struct LatencyRecord {
   uint64_t frame = 0;
   int64_t pose_sample_ns = 0;      ///< newest head sample the prediction started from
   int64_t video_ns = 0;            ///< exposure of the frame shown (or its arrival, see below)
   bool video_is_exposure = false;  ///< false: video_ns is the host arrival time
   int64_t texture_update_ns = 0;   ///< video/model data handed to the compositor
+  /// Capture time of the oldest camera frame the drawn model's textures came from (0: the
+  /// a-priori model, or no model updater).
+  int64_t model_capture_ns = 0;
   int64_t render_start_ns = 0;
   int64_t render_end_ns = 0;
   int64_t swap_ns = 0;               ///< present() returned
@@ -23,7 +28,13 @@ struct LatencyRecord {
   bool missed_deadline = false;
 };
 
-enum class LatencyMetric : uint8_t { kMotionToSwap, kMotionToDisplay, kVideoAge, kRender };
+enum class LatencyMetric : uint8_t {
+  kMotionToSwap,
+  kMotionToDisplay,
+  kVideoAge,
+  kRender,
+  kModelAge
+};
 
 /// The metric in nanoseconds; false when the record lacks a stamp it needs.
 inline bool latency_of(const LatencyRecord& r, LatencyMetric m, int64_t& out_ns) {
@@ -43,6 +54,10 @@ inline bool latency_of(const LatencyRecord& r, LatencyMetric m, int64_t& out_ns)
     case LatencyMetric::kRender:
       if (r.render_start_ns == 0 || r.render_end_ns == 0) return false;
       out_ns = r.render_end_ns - r.render_start_ns;
+      return true;
+    case LatencyMetric::kModelAge:
+      if (r.model_capture_ns == 0 || r.predicted_display_ns == 0) return false;
+      out_ns = r.predicted_display_ns - r.model_capture_ns;
       return true;
   }
   return false;

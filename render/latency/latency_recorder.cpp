@@ -16,8 +16,8 @@ namespace {
 
 constexpr const char* kCsvHeader =
     "frame,pose_sample_ns,video_ns,video_is_exposure,texture_update_ns,render_start_ns,"
-    "render_end_ns,swap_ns,predicted_display_ns,missed_deadline";
-constexpr int kCsvColumns = 10;
+    "render_end_ns,swap_ns,predicted_display_ns,missed_deadline,model_capture_ns";
+constexpr int kCsvColumns = 11;
 
 // Commits a finished temp file under its final name, or removes it and says why.
 void commit_file(const std::string& tmp, const std::string& path) {
@@ -102,7 +102,7 @@ void LatencyRecorder::write_csv(const std::string& path) const {
       f << r.frame << ',' << r.pose_sample_ns << ',' << r.video_ns << ','
         << int{r.video_is_exposure} << ',' << r.texture_update_ns << ',' << r.render_start_ns << ','
         << r.render_end_ns << ',' << r.swap_ns << ',' << r.predicted_display_ns << ','
-        << int{r.missed_deadline} << "\n";
+        << int{r.missed_deadline} << ',' << r.model_capture_ns << "\n";
     }
     f.flush();
     if (!f) {
@@ -154,6 +154,7 @@ std::vector<LatencyRecord> LatencyRecorder::read_csv(const std::string& path) {
     r.swap_ns = v[7];
     r.predicted_display_ns = v[8];
     r.missed_deadline = v[9] != 0;
+    r.model_capture_ns = v[10];
     out.push_back(r);
   }
   return out;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/view_measure.h"
+#include "render/model/model_updater.h"
 #include "render/selection/guidance_arrow.h"
 
 namespace hd::render {
@@ -31,6 +32,10 @@ StationFrame::StationFrame(StationFrameConfig config, std::span<const StationCam
   rows_.reserve(config_.max_rows);
 }
 
+void StationFrame::set_model_updater(ModelUpdater* updater) {
+  model_ = updater;
+}
+
 void StationFrame::tick(const FrameTiming& timing) {
   // Newest frame of every camera (the device threads keep publishing meanwhile).
   for (std::size_t i = 0; i < cameras_.size(); ++i) {
@@ -38,6 +43,15 @@ void StationFrame::tick(const FrameTiming& timing) {
       has_frame_[i] = 1;
       ++fetched_[i];
     }
+  }
+  // Newest model: before its first update the mailbox shows the a-priori model (capture 0).
+  const SyntheticScene* scene = scene_;
+  int64_t model_capture_ns = 0;
+  if (model_) {
+    model_->models().fetch();
+    const ModelSnapshot& snapshot = model_->models().latest();
+    scene = &snapshot.scene;
+    model_capture_ns = snapshot.capture_oldest_ns;
   }
   const int64_t texture_ns = clock_.now_ns();
 
@@ -78,7 +92,7 @@ void StationFrame::tick(const FrameTiming& timing) {
   if (chosen >= 0) video = &cameras_[static_cast<std::size_t>(chosen)].source->frames().latest();
   for (int e = 0; e < eyes; ++e) {
     CompositeRequest req;
-    req.scene = scene_;
+    req.scene = scene;
     req.eye = rig.eye[static_cast<std::size_t>(e)];
     req.T_world_eye = rig.T_world_eye(T_world_head, e);
     req.near_m = config_.near_m;
@@ -112,6 +126,7 @@ void StationFrame::tick(const FrameTiming& timing) {
     r.video_is_exposure = video->device_time_trusted;
   }
   r.texture_update_ns = texture_ns;
+  r.model_capture_ns = model_capture_ns;
   r.render_start_ns = render_start_ns;
   r.render_end_ns = render_end_ns;
   r.swap_ns = swap_ns;

@@ -22,6 +22,8 @@
 
 namespace hd::render {
 
+class ModelUpdater;
+
 /// A calibrated camera the station may show: its device and its p_c, P_c, plane distance d.
 struct StationCamera {
   drivers::CameraSource* source = nullptr;
@@ -65,6 +67,11 @@ class StationFrame final : public FrameWork {
 
   void tick(const FrameTiming& timing) override;
 
+  /// Draws the updater's newest published model (fetched each tick, no allocation) instead of
+  /// the fixed `scene`, and records its capture time as the latency record's model_capture_ns.
+  /// nullptr: back to the fixed scene. Call before the loop runs; the updater must outlive it.
+  void set_model_updater(ModelUpdater* updater);
+
   const ImageRgba8& image() const { return out_; }
   const std::vector<FrameRow>& rows() const { return rows_; }
   uint64_t rows_dropped() const { return rows_dropped_; }
@@ -81,6 +88,7 @@ class StationFrame final : public FrameWork {
   PosePredictor& predictor_;
   Compositor& compositor_;
   const SyntheticScene* scene_;
+  ModelUpdater* model_ = nullptr;
   LoopClock& clock_;
   LatencyRecorder& latency_;
   core::Transition transition_;
