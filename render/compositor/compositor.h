@@ -4,6 +4,8 @@
 #include "render/compositor/composite_request.h"
 #include "render/compositor/compositor_stats.h"
 #include "render/compositor/image_rgba8.h"
+#include "render/compositor/viewport.h"
+#include "render/overlay/overlay.h"
 
 namespace hd::render {
 
@@ -19,6 +21,9 @@ class Compositor {
  public:
   virtual ~Compositor() = default;
   virtual void draw(const CompositeRequest& req, ImageRgba8& out) = 0;
+  /// Draws `overlay` (render/overlay/overlay.h) over the picture just drawn in `vp`; same
+  /// no-allocation rules as draw (the HUD strip is rendered beforehand by HudStrip::set_text).
+  virtual void draw_overlay(const Overlay& overlay, const Viewport& vp, ImageRgba8& out) = 0;
   /// Makes the drawn frame visible (swap buffers); a no-op for the CPU compositor.
   virtual void present() {}
   virtual const CompositorStats& stats() const = 0;

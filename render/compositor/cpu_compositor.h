@@ -9,6 +9,7 @@
 #include "render/compositor/compositor.h"
 #include "render/compositor/mesh_rasterizer.h"
 #include "render/compositor/video_warp.h"
+#include "render/overlay/overlay_painter.h"
 
 namespace hd::render {
 
@@ -27,6 +28,9 @@ class CpuCompositor final : public Compositor {
   CpuCompositor& operator=(const CpuCompositor&) = delete;
 
   void draw(const CompositeRequest& req, ImageRgba8& out) override;
+  void draw_overlay(const Overlay& overlay, const Viewport& vp, ImageRgba8& out) override {
+    paint_overlay(overlay, vp, out);
+  }
   const CompositorStats& stats() const override { return stats_; }
 
  private:

@@ -122,6 +122,43 @@ void main() {
 }
 )";
 
+// Overlay lines: vertices in output pixels (row 0 at the top, like framebuffer row 0).
+constexpr const char* kLinesVs = R"(#version 330 core
+layout(location = 0) in vec2 pos_px;
+layout(location = 1) in vec3 rgb;
+uniform vec2 target;
+flat out vec3 v_rgb;
+void main() {
+  v_rgb = rgb;
+  gl_Position = vec4(pos_px / target * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
+constexpr const char* kLinesFs = R"(#version 330 core
+flat in vec3 v_rgb;
+out vec4 colour;
+void main() { colour = vec4(v_rgb, 1.0); }
+)";
+
+// The HUD strip: a quad at `origin` of `size` pixels, texel (x, y) of the strip on pixel
+// origin + (x, y), blended by the strip's alpha.
+constexpr const char* kHudVs = R"(#version 330 core
+uniform vec2 origin;
+uniform vec2 size;
+uniform vec2 target;
+void main() {
+  vec2 corner = vec2(float(gl_VertexID & 1), float((gl_VertexID >> 1) & 1));
+  gl_Position = vec4((origin + corner * size) / target * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
+constexpr const char* kHudFs = R"(#version 330 core
+uniform sampler2D strip;
+uniform vec2 origin;
+out vec4 colour;
+void main() { colour = texelFetch(strip, ivec2(gl_FragCoord.xy - origin), 0); }
+)";
+
 GLuint compile(GLenum type, const char* source, const char* name) {
   const GLuint shader = glCreateShader(type);
   glShaderSource(shader, 1, &source, nullptr);
@@ -208,6 +245,34 @@ GlCompositor::GlCompositor(const gl::WindowOptions& options)
   video_texture_ = gl::Texture::create();
   glBindTexture(GL_TEXTURE_2D, video_texture_.get());
   set_sampling(GL_TEXTURE_2D);
+
+  lines_program_ = link(kLinesVs, kLinesFs, "overlay lines");
+  hud_program_ = link(kHudVs, kHudFs, "overlay hud");
+  u_lines_target_ = glGetUniformLocation(lines_program_.get(), "target");
+  u_hud_origin_ = glGetUniformLocation(hud_program_.get(), "origin");
+  u_hud_size_ = glGetUniformLocation(hud_program_.get(), "size");
+  u_hud_target_ = glGetUniformLocation(hud_program_.get(), "target");
+  glUseProgram(hud_program_.get());
+  glUniform1i(glGetUniformLocation(hud_program_.get(), "strip"), 0);
+  glUseProgram(0);
+  lines_vao_ = gl::VertexArray::create();
+  lines_vbo_ = gl::Buffer::create();
+  glBindVertexArray(lines_vao_.get());
+  glBindBuffer(GL_ARRAY_BUFFER, lines_vbo_.get());
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(sizeof line_vertices_), nullptr,
+               GL_DYNAMIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 5 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 5 * sizeof(float),
+                        reinterpret_cast<const void*>(2 * sizeof(float)));
+  glBindVertexArray(0);
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+  hud_texture_ = gl::Texture::create();
+  glBindTexture(GL_TEXTURE_2D, hud_texture_.get());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glDisable(GL_FRAMEBUFFER_SRGB);
@@ -466,6 +531,7 @@ void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   glBindVertexArray(0);
   glDisable(GL_SCISSOR_TEST);
 
+  last_read_back_ = req.read_back;
   if (req.read_back) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, final_fbo_.get());
     glPixelStorei(GL_PACK_ROW_LENGTH, out.stride_bytes / 4);
@@ -474,6 +540,84 @@ void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   ++stats_.frames_drawn;
+}
+
+void GlCompositor::draw_overlay(const Overlay& overlay, const Viewport& vp, ImageRgba8& out) {
+  if (overlay.empty() || target_w_ <= 0 || out.width != target_w_ || out.height != target_h_ ||
+      vp.width <= 0 || vp.height <= 0 || vp.x < 0 || vp.y < 0 || vp.x + vp.width > out.width ||
+      vp.y + vp.height > out.height)
+    return;
+  window_->make_current();
+  OverlaySegments segs;
+  overlay_geometry(overlay, vp, segs);
+  glBindFramebuffer(GL_FRAMEBUFFER, final_fbo_.get());
+  glViewport(0, 0, target_w_, target_h_);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(vp.x, vp.y, vp.width, vp.height);
+  const float tw = static_cast<float>(target_w_), th = static_cast<float>(target_h_);
+  if (segs.count > 0) {
+    std::size_t k = 0;
+    for (int i = 0; i < segs.count; ++i) {
+      const OverlaySegment& s = segs.segment[static_cast<std::size_t>(i)];
+      for (const Eigen::Vector2d& p : {s.a, s.b}) {
+        line_vertices_[k++] = static_cast<float>(p.x());
+        line_vertices_[k++] = static_cast<float>(p.y());
+        for (int c = 0; c < 3; ++c)
+          line_vertices_[k++] = s.rgb[static_cast<std::size_t>(c)] / 255.0f;
+      }
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, lines_vbo_.get());
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(k * sizeof(float)),
+                    line_vertices_.data());
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glUseProgram(lines_program_.get());
+    glUniform2f(u_lines_target_, tw, th);
+    glBindVertexArray(lines_vao_.get());
+    glDrawArrays(GL_LINES, 0, 2 * segs.count);
+  }
+  if (overlay.draws_hud()) {
+    const ImageRgba8& strip = overlay.hud->image();
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, hud_texture_.get());
+    if (hud_uploaded_ != overlay.hud || hud_revision_ != overlay.hud->revision() ||
+        hud_w_ != strip.width || hud_h_ != strip.height) {
+      glPixelStorei(GL_UNPACK_ROW_LENGTH, strip.stride_bytes / 4);
+      if (hud_w_ != strip.width || hud_h_ != strip.height) {
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, strip.width, strip.height, 0, GL_RGBA,
+                     GL_UNSIGNED_BYTE, strip.data.data());
+        hud_w_ = strip.width;
+        hud_h_ = strip.height;
+      } else {
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, strip.width, strip.height, GL_RGBA,
+                        GL_UNSIGNED_BYTE, strip.data.data());
+      }
+      glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+      hud_uploaded_ = overlay.hud;
+      hud_revision_ = overlay.hud->revision();
+      ++hud_uploads_;
+    }
+    glEnable(GL_BLEND);
+    // Colour: strip over picture by the strip's alpha; the picture's alpha stays.
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    glUseProgram(hud_program_.get());
+    glUniform2f(u_hud_origin_, static_cast<float>(vp.x), static_cast<float>(vp.y));
+    glUniform2f(u_hud_size_, static_cast<float>(std::min(strip.width, vp.width)),
+                static_cast<float>(std::min(strip.height, vp.height)));
+    glUniform2f(u_hud_target_, tw, th);
+    glBindVertexArray(empty_vao_.get());
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_BLEND);
+  }
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glDisable(GL_SCISSOR_TEST);
+  if (last_read_back_) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, final_fbo_.get());
+    glPixelStorei(GL_PACK_ROW_LENGTH, out.stride_bytes / 4);
+    glReadPixels(vp.x, vp.y, vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, out.pixel(vp.x, vp.y));
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 void GlCompositor::present() {

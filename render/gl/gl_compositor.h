@@ -1,6 +1,7 @@
 #pragma once
 // The OpenGL 3.3 core compositor: the CPU reference's picture, drawn by shaders.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -9,6 +10,7 @@
 #include "render/compositor/compositor.h"
 #include "render/gl/gl_objects.h"
 #include "render/gl/gl_window.h"
+#include "render/overlay/overlay_geometry.h"
 
 namespace hd::render {
 
@@ -35,10 +37,17 @@ class GlCompositor final : public Compositor {
   GlCompositor& operator=(const GlCompositor&) = delete;
 
   void draw(const CompositeRequest& req, ImageRgba8& out) override;
+  /// Draws the overlay into the picture last drawn (GL_LINES for overlay_geometry()'s segments,
+  /// the HUD strip as a textured quad, alpha-blended, its texture re-uploaded only when the
+  /// strip's revision changes) and, if that draw read back, reads the viewport back into `out`.
+  /// Nothing is drawn before the first draw() of `out`'s size.
+  void draw_overlay(const Overlay& overlay, const Viewport& vp, ImageRgba8& out) override;
   /// Blits the last picture to the window and swaps buffers.
   void present() override;
   const CompositorStats& stats() const override { return stats_; }
 
+  /// HUD strip texture uploads so far (one per text change of the strip drawn).
+  uint64_t hud_uploads() const { return hud_uploads_; }
   std::string renderer() const;  ///< GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   std::string version() const;   ///< GL_VERSION
   gl::Window& window() { return *window_; }
@@ -86,6 +95,22 @@ class GlCompositor final : public Compositor {
   int video_w_ = 0, video_h_ = 0;
   UploadKey last_upload_;
   bool have_upload_ = false;
+
+  // Overlay: a preallocated vertex buffer for the segments (x, y, r, g, b per vertex) and the
+  // HUD strip's texture.
+  gl::Program lines_program_;
+  gl::Program hud_program_;
+  gl::VertexArray lines_vao_;
+  gl::Buffer lines_vbo_;
+  std::array<float, OverlaySegments::kCapacity * 2 * 5> line_vertices_{};
+  gl::Texture hud_texture_;
+  const HudStrip* hud_uploaded_ = nullptr;
+  uint64_t hud_revision_ = 0;
+  int hud_w_ = 0, hud_h_ = 0;
+  uint64_t hud_uploads_ = 0;
+  bool last_read_back_ = false;
+  int u_lines_target_ = -1;
+  int u_hud_origin_ = -1, u_hud_size_ = -1, u_hud_target_ = -1;
 
   // Uniform locations (looked up once).
   int u_world_to_clip_ = -1;
