@@ -1,10 +1,10 @@
 #include "render/loop/station_frame.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/view_measure.h"
 #include "render/model/model_updater.h"
-#include "render/selection/guidance_arrow.h"
 
 namespace hd::render {
 
@@ -27,6 +27,7 @@ StationFrame::StationFrame(StationFrameConfig config, std::span<const StationCam
       has_frame_(cameras.size(), 0),
       fetched_(cameras.size(), 0) {
   out_.allocate(config_.rig.output_width(), config_.rig.output_height());
+  hud_ = HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24));
   for (const StationCamera& c : cameras_)
     guidance_cameras_.push_back({c.p_c, c.T_world_real, c.d_m});
   rows_.reserve(config_.max_rows);
@@ -112,7 +113,20 @@ void StationFrame::tick(const FrameTiming& timing) {
     req.marking = config_.marking;
     req.viewport = rig.viewport(e);
     compositor_.draw(req, out_);
-    if (cue.active) draw_guidance_arrow(cue, req.viewport, out_);
+    // Ghost frustum + arrow toward eye 0's nearest camera, seen from this eye; HUD on eye 0.
+    Overlay ov;
+    ov.eye = req.eye;
+    ov.T_world_eye = req.T_world_eye;
+    ov.near_m = req.near_m;
+    ov.hud = e == 0 ? &hud_ : nullptr;
+    if (cue.active) {
+      ov.cue = e == 0 ? cue
+                      : guidance_toward_nearest(
+                            req.eye, req.T_world_eye,
+                            std::span(&guidance_cameras_[static_cast<std::size_t>(cue.camera)], 1));
+      ov.cue.camera = cue.camera;
+    }
+    if (!ov.empty()) compositor_.draw_overlay(ov, req.viewport, out_);
   }
   const int64_t render_end_ns = clock_.now_ns();
   compositor_.present();

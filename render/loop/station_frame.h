@@ -15,6 +15,7 @@
 #include "render/compositor/compositor.h"
 #include "render/latency/latency_recorder.h"
 #include "render/loop/frame_loop.h"
+#include "render/overlay/hud_strip.h"
 #include "render/prediction/pose_history.h"
 #include "render/selection/camera_selector.h"
 #include "render/selection/guidance_cue.h"
@@ -72,6 +73,11 @@ class StationFrame final : public FrameWork {
   /// nullptr: back to the fixed scene. Call before the loop runs; the updater must outlive it.
   void set_model_updater(ModelUpdater* updater);
 
+  /// The HUD line drawn at the top of eye 0 (e.g. LatencyRecorder::hud_line()); "" hides it.
+  /// Renders the text with OpenCV, which may allocate: call it outside tick(), e.g. every ~0.5 s.
+  void set_hud_text(std::string_view text) { hud_.set_text(text); }
+  const HudStrip& hud() const { return hud_; }
+
   const ImageRgba8& image() const { return out_; }
   const std::vector<FrameRow>& rows() const { return rows_; }
   uint64_t rows_dropped() const { return rows_dropped_; }
@@ -95,6 +101,7 @@ class StationFrame final : public FrameWork {
   CameraSelector selector_;
   PoseHistory history_;
   ImageRgba8 out_;
+  HudStrip hud_;
   std::vector<double> m_camera_;            ///< worse-eye m per camera
   std::vector<core::ViewMeasure> measure_;  ///< [camera * 2 + eye]
   std::vector<uint8_t> has_frame_;
