@@ -148,8 +148,8 @@ void StationFrame::tick(const FrameTiming& timing) {
   r.missed_deadline = swap_ns > timing.deadline_ns;
   latency_.record(r);
 
-  if (rows_.size() < rows_.capacity()) {
-    FrameRow row;
+  {
+    FrameRow& row = last_row_;
     row.frame = timing.frame;
     row.m = m;
     row.w_video = ts.w_video;
@@ -162,10 +162,11 @@ void StationFrame::tick(const FrameTiming& timing) {
     row.head_x_m = T_world_head.t.x();
     row.head_y_m = T_world_head.t.y();
     row.head_z_m = T_world_head.t.z();
-    rows_.push_back(row);
-  } else {
-    ++rows_dropped_;
   }
+  if (rows_.size() < rows_.capacity())
+    rows_.push_back(last_row_);
+  else
+    ++rows_dropped_;
 }
 
 }  // namespace hd::render

@@ -81,6 +81,9 @@ class StationFrame final : public FrameWork {
   const ImageRgba8& image() const { return out_; }
   const std::vector<FrameRow>& rows() const { return rows_; }
   uint64_t rows_dropped() const { return rows_dropped_; }
+  /// The newest frame's row, kept even when rows() is full (max_rows = 0 keeps none: a caller
+  /// logging frames itself, e.g. a long run, reads this after each tick).
+  const FrameRow& last_row() const { return last_row_; }
   const PoseHistory& pose_history() const { return history_; }
   const CameraSelector& selector() const { return selector_; }
   /// Frames in which each camera showed a new frame (index = camera).
@@ -108,6 +111,7 @@ class StationFrame final : public FrameWork {
   std::vector<uint64_t> fetched_;
   std::vector<FrameRow> rows_;
   uint64_t rows_dropped_ = 0;
+  FrameRow last_row_;
 };
 
 }  // namespace hd::render
