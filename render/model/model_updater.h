@@ -35,7 +35,8 @@ struct ModelUpdaterConfig {
   double refresh_period_s = 1.0;  ///< updates start at t0 + k * period (skipped when late)
   /// Extra wait between taking the frames and texturing/publishing (the paper's model delay, as
   /// a simulated effect; 0 for real devices, whose delay is the extraction itself). When
-  /// delay_s + extraction exceeds the period, updates follow each other back to back.
+  /// delay_s + extraction exceeds the period, the slots that passed are skipped (counted): updates
+  /// stay on the t0 + k * period grid.
   double delay_s = 0.0;
   MoveModelObjects move_objects{};
   TextureExtractorParams extractor{};
@@ -85,6 +86,7 @@ class ModelUpdater {
 
  private:
   void run();
+  bool update(const std::atomic<bool>* running);  ///< running: cut a delay wait short on stop
   bool take_frames();
   void publish();
 

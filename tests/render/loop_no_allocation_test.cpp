@@ -13,7 +13,9 @@
 #include "drivers/mock/mock_pose_source.h"
 #include "render/compositor/cpu_compositor.h"
 #include "render/loop/station_frame.h"
+#include "render/model/model_updater.h"
 #include "render/prediction/kalman_predictor.h"
+#include "render/video/camera_pipeline.h"
 
 namespace hd::render {
 namespace {
@@ -118,6 +120,89 @@ TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
   }
   EXPECT_GT(video, 0);
   EXPECT_GT(synthetic, 0);
+}
+
+// The same station reading an undistorting camera pipeline and drawing the delayed model that a
+// model updater re-textures from that camera 20 times a second: the tick still allocates nothing,
+// and the latency log carries the model's age.
+TEST(LoopNoAllocation, StationWithCameraPipelineAndModelUpdaterAllocatesNothing) {
+  core::Pinhole cam_k{160, 160, 80, 60, 160, 120};
+  cam_k.distortion = {-0.2, 0.05, 0.0, 0.0, 0.0};
+  cam_k.distortion_count = 5;
+  drivers::MockCameraConfig cc;
+  cc.width = 160;
+  cc.height = 120;
+  cc.rate_hz = 120.0;
+  drivers::MockCamera camera(cc);
+  CameraPipeline pipeline(camera, {cam_k, 0.05, 200'000});
+  drivers::MockPoseSourceConfig pc;
+  pc.motion = [](double t_s) {
+    drivers::TrajectorySample s;
+    s.t_s = t_s;
+    s.position_m = {0.2 * std::sin(2.0 * M_PI * 1.5 * t_s), 0.0, 0.0};
+    return s;
+  };
+  pc.rate_hz = 500.0;
+  drivers::MockPoseSource pose(pc);
+  pipeline.open();
+  pose.open();
+  pipeline.start();
+  pose.start();
+
+  StationFrameConfig cfg;
+  cfg.rig = StereoRig();
+  cfg.rig.eye = {core::Pinhole{150, 150, 80, 60, 160, 120},
+                 core::Pinhole{150, 150, 80, 60, 160, 120}};
+  cfg.workspace.min_m = {-1, -1, 1};
+  cfg.workspace.max_m = {1, 1, 3};
+  cfg.transition.m_t = 8;
+  cfg.transition.eps = 3;
+  cfg.transition.time_constant_s = 0.0;
+  cfg.max_rows = 400;
+  core::Pinhole undistorted = cam_k;
+  undistorted.distortion_count = 0;
+  const StationCamera cams[] = {{&pipeline, undistorted, core::Pose::identity(), 2.0}};
+  const SyntheticScene scene = make_scene();
+  MonotonicLoopClock clock;
+  const ModelCamera model_cams[] = {
+      {&pipeline.model_frames(), undistorted, core::Pose::identity()}};
+  ModelUpdaterConfig mc;
+  mc.refresh_period_s = 0.05;
+  mc.delay_s = 0.01;
+  ModelUpdater updater(scene, model_cams, mc, clock);
+  updater.start();
+  KalmanPredictor predictor;
+  CpuCompositor compositor(1);
+  LatencyRecorder latency(400);
+  StationFrame frame(cfg, cams, pose, predictor, compositor, &scene, clock, latency);
+  frame.set_model_updater(&updater);
+  CountingWork work(frame);
+  FrameLoop loop(FrameLoopConfig{240.0, 2'000'000, true}, clock);
+
+  loop.run(30, work);
+  work.counting = true;
+  hd::core::reset_counted_allocations();
+  loop.run(300, work);
+  work.counting = false;
+  const uint64_t allocations = hd::core::counted_allocations();
+  updater.stop();
+  pipeline.stop();
+  pose.stop();
+
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(frame.frames_fetched()[0], 20u);
+  EXPECT_GE(updater.stats().updates, 5u);  // ~1.4 s at 20 updates per second
+  // Every frame drawn after the first update carries the model's capture time; its age is at
+  // least the staleness delay (the frame was taken, then 10 ms passed before publishing).
+  const LatencyStats age = latency.stats(LatencyMetric::kModelAge);
+  EXPECT_GT(age.count, 100u);
+  EXPECT_GE(age.p50_ms, 10.0);
+  uint64_t previous_capture = 0;
+  for (std::size_t i = 0; i < latency.size(); ++i) {
+    const int64_t c = latency.at(i).model_capture_ns;
+    EXPECT_GE(static_cast<uint64_t>(c), previous_capture);  // the model never goes back in time
+    previous_capture = static_cast<uint64_t>(c);
+  }
 }
 
 }  // namespace
