@@ -5,16 +5,24 @@
 
 namespace hd::render {
 
-bool clip_to_near_plane(Eigen::Vector3d& p0, Eigen::Vector3d& p1, double near_m) {
-  if (!p0.allFinite() || !p1.allFinite() || !std::isfinite(near_m)) return false;
-  const bool in0 = p0.z() >= near_m, in1 = p1.z() >= near_m;
+bool clip_to_half_space(Eigen::Vector3d& p0, Eigen::Vector3d& p1, const Eigen::Vector3d& n,
+                        double c) {
+  if (!p0.allFinite() || !p1.allFinite() || !n.allFinite() || !std::isfinite(c)) return false;
+  const double f0 = n.dot(p0) + c, f1 = n.dot(p1) + c;
+  const bool in0 = f0 >= 0.0, in1 = f1 >= 0.0;
   if (in0 && in1) return true;
   if (!in0 && !in1) return false;
-  // Exactly one end is behind: move it to the crossing (the z difference is nonzero here).
-  const double t = (near_m - p0.z()) / (p1.z() - p0.z());
-  Eigen::Vector3d x = p0 + t * (p1 - p0);
-  x.z() = near_m;  // no rounding below the plane
-  (in0 ? p1 : p0) = x;
+  // Exactly one end is outside: move it to the crossing (f0 != f1 here).
+  const double t = f0 / (f0 - f1);
+  (in0 ? p1 : p0) = p0 + t * (p1 - p0);
+  return true;
+}
+
+bool clip_to_near_plane(Eigen::Vector3d& p0, Eigen::Vector3d& p1, double near_m) {
+  if (!clip_to_half_space(p0, p1, Eigen::Vector3d::UnitZ(), -near_m)) return false;
+  // The crossing may round a hair below the plane: put it on the plane.
+  p0.z() = std::max(p0.z(), near_m);
+  p1.z() = std::max(p1.z(), near_m);
   return true;
 }
 
@@ -54,16 +62,30 @@ void push(OverlaySegments& out, Eigen::Vector2d a, Eigen::Vector2d b, const View
 }
 
 void frustum(const Overlay& o, const Viewport& vp, OverlaySegments& out) {
-  if (!o.eye.valid() || !o.T_world_eye.valid() || !(o.near_m > 0.0)) return;
+  const core::Pinhole& k = o.eye;
+  if (!k.valid() || !o.T_world_eye.valid() || !(o.near_m > 0.0)) return;
   std::array<Eigen::Vector3d, 5> p;
   for (std::size_t i = 0; i < 5; ++i) p[i] = o.T_world_eye.to_camera(o.cue.frustum_world[i]);
+  // The eye's side planes, 1 px outside the image: u >= -1, u <= W + 1, v >= -1, v <= H + 1
+  // with u = fx x / z + cx, i.e. fx x + (cx + 1) z >= 0 and so on (z > 0 after the near clip).
+  const double u0 = -1.0, u1 = k.width + 1.0, v0 = -1.0, v1 = k.height + 1.0;
+  const Eigen::Vector3d side_n[4] = {{k.fx, 0.0, k.cx - u0},
+                                     {-k.fx, 0.0, u1 - k.cx},
+                                     {0.0, k.fy, k.cy - v0},
+                                     {0.0, -k.fy, v1 - k.cy}};
   // Centre to each corner, then the far rectangle.
   constexpr int kEdges[8][2] = {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {1, 2}, {2, 3}, {3, 4}, {4, 1}};
   const Eigen::Vector2d origin(vp.x, vp.y);
-  for (const auto& e : kEdges) {
-    Eigen::Vector3d a = p[static_cast<std::size_t>(e[0])], b = p[static_cast<std::size_t>(e[1])];
+  for (int e = 0; e < 8; ++e) {
+    Eigen::Vector3d a = p[static_cast<std::size_t>(kEdges[e][0])];
+    Eigen::Vector3d b = p[static_cast<std::size_t>(kEdges[e][1])];
     if (!clip_to_near_plane(a, b, o.near_m)) continue;
-    push(out, origin + o.eye.project(a), origin + o.eye.project(b), vp, o.frustum_rgb);
+    bool visible = true;
+    for (const Eigen::Vector3d& n : side_n) visible = visible && clip_to_half_space(a, b, n, 0.0);
+    if (!visible) continue;
+    const int before = out.count;
+    push(out, origin + k.project(a), origin + k.project(b), vp, o.frustum_rgb);
+    if (out.count > before) out.segment[static_cast<std::size_t>(before)].edge = e;
   }
 }
 
