@@ -1,0 +1,38 @@
+#pragma once
+// Everything `hybrid-station run` is told on its command line.
+
+#include <cstdint>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace hd::station {
+
+struct RunOptions {
+  std::string scene_path;   ///< --scene: simulated devices from a scene file
+  std::string config_path;  ///< --config: real devices from station.yaml
+  std::string out_dir = "out/run";
+  bool headless = false;
+  bool gl = false;
+  uint64_t frames = 0;     ///< 0: run for `seconds`
+  double seconds = 0.0;    ///< 0: the scene's duration (--scene) or 10 s (--config, headless)
+  double rate_hz = 0.0;    ///< 0: the config's display rate, else 90
+  std::string video_path;  ///< "" = no video
+  uint64_t png_every = 0;  ///< 0 = no PNG frames
+  std::size_t contact_tiles = 12;
+  bool mono = false;
+  int eye_width = 0, eye_height = 0;  ///< 0: config / scene hint / 480x400
+  std::string predictor;              ///< "": the config's (kalman)
+  double scanout_ms = -1.0;           ///< < 0: the config's (2 ms)
+  int threads = 1;                    ///< CPU compositor threads
+  double m_t = -1.0, eps = -1.0;      ///< < 0: config / scene hint / 40, 10
+  std::string transition_mode;        ///< "": config's (per_pixel)
+  std::string marking;                ///< "": config's (frame for scenes)
+  uint64_t warmup = 30;
+  std::size_t max_log_rows = 1'000'000;  ///< frames.csv keeps the first this many frames
+};
+
+/// Adds the options above to the `run` subcommand.
+void add_run_options(CLI::App& cmd, RunOptions& o);
+
+}  // namespace hd::station

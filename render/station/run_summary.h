@@ -1,0 +1,47 @@
+#pragma once
+// What a run did, printed at the end and written as DIR/summary.json (scripts read it, e.g. the
+// soak's missed-deadline rate).
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "render/latency/latency_recorder.h"
+
+namespace hd::station {
+
+struct RunSummary {
+  std::string source;  ///< "scene <file>" or "config <file>"
+  uint64_t frames = 0;
+  double seconds = 0.0;  ///< wall time of the loop
+  double rate_hz = 0.0;
+  uint64_t missed_deadlines = 0;
+  uint64_t skipped_slots = 0;
+  render::LatencyStats mtp_swap, mtp_display, video_age, model_age, render;
+  uint64_t variant_frames[3] = {0, 0, 0};  ///< video, hybrid, synthetic
+  uint64_t guidance_frames = 0;
+  uint64_t camera_switches = 0;
+  std::vector<std::string> camera_names;
+  std::vector<uint64_t> camera_frames_shown;     ///< frames in which each camera's frame was new
+  std::vector<uint64_t> camera_frames_rejected;  ///< by the pipeline (wrong size / format)
+  uint64_t pose_accepted = 0, pose_rejected = 0;
+  uint64_t recentres = 0, tracker_resets = 0;
+  uint64_t model_updates = 0;
+  uint64_t allocations_after_warmup = 0;
+  uint64_t warmup_frames = 0;
+  uint64_t log_rows = 0, log_rows_dropped = 0;
+  uint64_t video_frames = 0, png_frames = 0, recorder_dropped = 0;
+  std::string recorder_error;
+  std::vector<std::string> outputs;
+
+  double missed_rate() const {
+    return frames ? static_cast<double>(missed_deadlines) / static_cast<double>(frames) : 0.0;
+  }
+};
+
+void print_summary(const RunSummary& s, std::FILE* out);
+/// JSON, written atomically; throws std::runtime_error naming the file on failure.
+void write_summary_json(const RunSummary& s, const std::string& path);
+
+}  // namespace hd::station
