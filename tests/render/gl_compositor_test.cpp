@@ -14,6 +14,7 @@
 #include "core/view_setup.h"
 #include "render/compositor/cpu_compositor.h"
 #include "render/compositor/demo_scene.h"
+#include "render/compositor/look_pose.h"
 #include "render/gl/gl_compositor.h"
 
 namespace {
@@ -27,17 +28,10 @@ using hd::render::CompositeRequest;
 using hd::render::CpuCompositor;
 using hd::render::GlCompositor;
 using hd::render::ImageRgba8;
+using hd::render::look_pose;
 
 Pinhole pinhole(double f, int w, int h) {
   return Pinhole::centred(f, w, h);
-}
-
-Pose look(double yaw_deg, double pitch_deg, const Eigen::Vector3d& t) {
-  const double k = std::numbers::pi / 180.0;
-  return {(Eigen::AngleAxisd(yaw_deg * k, Eigen::Vector3d::UnitY()) *
-           Eigen::AngleAxisd(pitch_deg * k, Eigen::Vector3d::UnitX()))
-              .toRotationMatrix(),
-          t};
 }
 
 // PSNR over RGB; also checks the picture is not trivially flat (a blank GL output would match a
@@ -90,7 +84,7 @@ class GlCompositorTest : public ::testing::Test {
     CompositeRequest r;
     r.scene = &scene_;
     r.eye = eye_;
-    r.T_world_eye = look(4.0, -3.0, {0.05, -0.02, 0.0});
+    r.T_world_eye = look_pose(4.0, -3.0, {0.05, -0.02, 0.0});
     r.video = &frame_;
     r.real = real_;
     r.T_world_real = T_world_real_;
@@ -117,7 +111,7 @@ class GlCompositorTest : public ::testing::Test {
   static inline uint64_t sequence_ = 0;
   Pinhole eye_ = pinhole(330.0, 400, 300);
   Pinhole real_ = pinhole(420.0, 480, 360);
-  Pose T_world_real_ = look(0.0, -5.0, {0.0, -0.1, -0.2});
+  Pose T_world_real_ = look_pose(0.0, -5.0, {0.0, -0.1, -0.2});
   hd::render::SyntheticScene scene_;
   hd::drivers::Frame frame_;
   CpuCompositor cpu_{2};
@@ -158,7 +152,7 @@ TEST_F(GlCompositorTest, SyntheticOnlyMatchesTheCpuReference) {
 
 TEST_F(GlCompositorTest, PerPixelHybridWithDesaturationMatchesTheCpuReference) {
   CompositeRequest req = base_request();
-  req.T_world_eye = look(14.0, -6.0, {0.25, -0.05, 0.1});
+  req.T_world_eye = look_pose(14.0, -6.0, {0.25, -0.05, 0.1});
   req.mode = TransitionMode::kPerPixel;
   req.transition = {Variant::kHybrid, 0.65, 0.35};
   req.marking.style = MarkingStyle::kDesaturate;
@@ -168,7 +162,7 @@ TEST_F(GlCompositorTest, PerPixelHybridWithDesaturationMatchesTheCpuReference) {
 
 TEST_F(GlCompositorTest, GlobalBlendWithCheckerMatchesTheCpuReference) {
   CompositeRequest req = base_request();
-  req.T_world_eye = look(-12.0, 4.0, {-0.2, 0.05, 0.3});
+  req.T_world_eye = look_pose(-12.0, 4.0, {-0.2, 0.05, 0.3});
   req.mode = TransitionMode::kGlobalBlend;
   req.transition = {Variant::kHybrid, 0.4, 0.6};
   req.marking.style = MarkingStyle::kChecker;
@@ -208,7 +202,7 @@ TEST_F(GlCompositorTest, StereoViewportsSideBySideMatchTheCpuReference) {
   gl_out_.allocate(800, 300);
   for (int eye = 0; eye < 2; ++eye) {
     CompositeRequest req = base_request();
-    req.T_world_eye = look(6.0, -2.0, {eye ? 0.032 : -0.032, 0.0, 0.05});
+    req.T_world_eye = look_pose(6.0, -2.0, {eye ? 0.032 : -0.032, 0.0, 0.05});
     req.mode = TransitionMode::kPerPixel;
     req.transition = {Variant::kHybrid, 0.8, 0.2};
     req.viewport = {eye * 400, 0, 400, 300};
@@ -241,7 +235,7 @@ TEST_F(GlCompositorTest, RegionFromMeasureViewIsEnoughForTheWholePicture) {
   // CPU reference's picture (which samples the whole frame).
   CompositeRequest req = base_request();
   req.eye = pinhole(700.0, 400, 300);  // narrow field of view: a small part of the frame
-  req.T_world_eye = look(8.0, -4.0, {0.1, 0.0, 0.2});
+  req.T_world_eye = look_pose(8.0, -4.0, {0.1, 0.0, 0.2});
   hd::core::ViewSetup s;
   s.real = req.real;
   s.T_world_real = req.T_world_real;
