@@ -7,14 +7,14 @@
 //   upload (bytes, time).
 
 #include <Eigen/Geometry>
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
+#include <ctime>
 #include <functional>
 #include <memory>
-#include <numbers>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -24,6 +24,7 @@
 #include "core/view_setup.h"
 #include "render/compositor/cpu_compositor.h"
 #include "render/compositor/demo_scene.h"
+#include "render/compositor/look_pose.h"
 #include "render/compositor/video_warp.h"
 #include "render/gl/gl_compositor.h"
 
@@ -38,38 +39,51 @@ Pinhole pinhole(double f, int w, int h) {
   return Pinhole::centred(f, w, h);
 }
 
-Pose look(double yaw_deg, double pitch_deg, const Eigen::Vector3d& t) {
-  const double k = std::numbers::pi / 180.0;
-  return {(Eigen::AngleAxisd(yaw_deg * k, Eigen::Vector3d::UnitY()) *
-           Eigen::AngleAxisd(pitch_deg * k, Eigen::Vector3d::UnitX()))
-              .toRotationMatrix(),
-          t};
-}
-
 // The procedural pattern on the plane, in real-image pixel coordinates: detail from 5 to 40 px.
 double pattern(double u, double v) {
   return 127.5 + 50.0 * std::sin(u * 0.16 + 0.3 * v * 0.05) * std::cos(v * 0.11) +
          40.0 * std::sin((u + v) * 0.45) + 25.0 * std::cos((u - 2 * v) * 0.9);
 }
 
-// Median wall time of `fn` in milliseconds.
-double time_ms(int runs, const std::function<void()>& fn) {
+// Seconds of CPU time used by the whole process (all threads) so far.
+double process_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+struct Timing {
+  double wall_ms = 0.0;  ///< median wall time of one run
+  double min_ms = 0.0;   ///< fastest run
+  double cpu_ms = 0.0;   ///< median process CPU time of one run (all threads; load-insensitive)
+};
+
+// Median (and minimum) wall time of `fn` in milliseconds, and its median CPU time: on a loaded
+// machine the wall time includes waiting for a core, the CPU time does not.
+Timing time_ms(int runs, const std::function<void()>& fn) {
   fn();  // warm-up
-  std::vector<double> t;
+  std::vector<double> t, c;
   for (int i = 0; i < runs; ++i) {
+    const double c0 = process_cpu_s();
     const auto a = std::chrono::steady_clock::now();
     fn();
     const auto b = std::chrono::steady_clock::now();
+    c.push_back(1e3 * (process_cpu_s() - c0));
     t.push_back(std::chrono::duration<double, std::milli>(b - a).count());
   }
+  Timing r;
+  r.min_ms = *std::min_element(t.begin(), t.end());
   std::nth_element(t.begin(), t.begin() + runs / 2, t.end());
-  return t[runs / 2];
+  std::nth_element(c.begin(), c.begin() + runs / 2, c.end());
+  r.wall_ms = t[runs / 2];
+  r.cpu_ms = c[runs / 2];
+  return r;
 }
 
 struct Row {
   std::string what;
   std::string error;
-  double ms;
+  Timing time;
   std::string bytes;
   std::string note;
 };
@@ -85,10 +99,12 @@ std::string fmt(const char* f, double x) {
 int main(int argc, char** argv) {
   int runs = 30;
   if (argc > 1) runs = std::max(3, std::atoi(argv[1]));
+  double load_before[3] = {0, 0, 0};
+  if (getloadavg(load_before, 3) != 3) load_before[0] = load_before[1] = load_before[2] = -1;
   const Pinhole real = pinhole(1400.0, 1600, 1200);
   const Pinhole eye = pinhole(700.0, 800, 600);
-  const Pose T_wr = look(0.0, -5.0, {0.0, -0.1, -0.2});
-  const Pose T_we = look(5.0, -3.0, {0.06, -0.03, 0.05});
+  const Pose T_wr = hd::render::look_pose(0.0, -5.0, {0.0, -0.1, -0.2});
+  const Pose T_we = hd::render::look_pose(5.0, -3.0, {0.06, -0.03, 0.05});
   const double d_m = 1.3;
   std::vector<Row> rows;
 
@@ -164,7 +180,7 @@ int main(int argc, char** argv) {
       hd::render::CpuCompositor cpu(threads);
       CompositeRequest r = video_req;
       r.sampling = sampling;
-      const double ms = time_ms(runs, [&] { cpu.draw(r, out); });
+      const Timing ms = time_ms(runs, [&] { cpu.draw(r, out); });
       rows.push_back(
           {std::string("CPU video warp, ") +
                (sampling == hd::render::VideoSampling::kNearest ? "nearest" : "bilinear") + ", " +
@@ -188,7 +204,7 @@ int main(int argc, char** argv) {
     const int default_threads = cv::getNumThreads();
     for (int threads : {1, default_threads}) {
       cv::setNumThreads(threads);
-      const double ms = time_ms(runs, [&] {
+      const Timing ms = time_ms(runs, [&] {
         cv::warpPerspective(src, dst, Mcv, dst.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
                             cv::BORDER_CONSTANT);
       });
@@ -207,7 +223,7 @@ int main(int argc, char** argv) {
   CompositeRequest hybrid = video_req;
   hybrid.scene = &scene;
   hybrid.video = &demo_frame;
-  hybrid.T_world_eye = look(12.0, -5.0, {0.2, -0.05, 0.1});
+  hybrid.T_world_eye = hd::render::look_pose(12.0, -5.0, {0.2, -0.05, 0.1});
   hybrid.mode = hd::core::TransitionMode::kPerPixel;
   hybrid.transition = {hd::core::Variant::kHybrid, 0.7, 0.3};
   hybrid.marking.style = hd::core::MarkingStyle::kDesaturate;
@@ -215,7 +231,7 @@ int main(int argc, char** argv) {
   cpu_hybrid.allocate(eye.width, eye.height);
   for (int threads : {1, 2}) {
     hd::render::CpuCompositor cpu(threads);
-    const double ms = time_ms(runs, [&] { cpu.draw(hybrid, cpu_hybrid); });
+    const Timing ms = time_ms(runs, [&] { cpu.draw(hybrid, cpu_hybrid); });
     rows.push_back(
         {"CPU full hybrid frame, " + std::to_string(threads) + " thread" + (threads > 1 ? "s" : ""),
          "reference", ms, "-", "800x600, target 11.1 ms"});
@@ -239,7 +255,7 @@ int main(int argc, char** argv) {
         gl.draw(r, gl_out);
       });
     };
-    const double ms = timed_draw(hybrid);
+    const Timing ms = timed_draw(hybrid);
     double se = 0;
     for (std::size_t i = 0; i < gl_out.data.size(); ++i) {
       if (i % 4 == 3) continue;
@@ -268,7 +284,7 @@ int main(int argc, char** argv) {
         CompositeRequest r = narrow;
         r.region = region ? m.region : hd::core::PixelRect{0, 0, 1600, 1200};
         const uint64_t b0 = gl.stats().video_bytes_uploaded, n0 = gl.stats().video_uploads;
-        const double t = timed_draw(r);
+        const Timing t = timed_draw(r);
         const double per = double(gl.stats().video_bytes_uploaded - b0) /
                            double(std::max<uint64_t>(1, gl.stats().video_uploads - n0));
         rows.push_back(
@@ -278,22 +294,29 @@ int main(int argc, char** argv) {
       }
     }
   } catch (const std::exception& e) {
-    rows.push_back(
-        {"GL rows", "-", 0.0, "-", std::string("skipped: ") + e.what() + " (run under xvfb-run)"});
+    rows.push_back({"GL rows", "-", Timing{}, "-",
+                    std::string("skipped: ") + e.what() + " (run under xvfb-run)"});
   }
 
+  double load_after[3] = {0, 0, 0};
+  if (getloadavg(load_after, 3) != 3) load_after[0] = load_after[1] = load_after[2] = -1;
   std::printf(
       "hybrid-bench-render: median of %d runs; error = RMS (8-bit levels) vs the exact\n"
       "supersampled render of an analytic pattern, over pixels whose footprint is inside the "
-      "frame\n\n",
-      runs);
-  std::printf("| %-46s | %-20s | %9s | %10s | %s |\n", "case", "error", "time ms", "bytes/frame",
-              "note");
-  std::printf("|%s|%s|%s|%s|%s|\n", std::string(48, '-').c_str(), std::string(22, '-').c_str(),
-              std::string(11, '-').c_str(), std::string(12, '-').c_str(), "------");
+      "frame\nload average (1, 5, 15 min): %.2f %.2f %.2f before, %.2f %.2f %.2f after; CPU ms = "
+      "process CPU time of one run, all threads\n\n",
+      runs, load_before[0], load_before[1], load_before[2], load_after[0], load_after[1],
+      load_after[2]);
+  std::printf("| %-46s | %-20s | %9s | %7s | %7s | %10s | %s |\n", "case", "error", "median ms",
+              "min ms", "CPU ms", "bytes/frame", "note");
+  std::printf("|%s|%s|%s|%s|%s|%s|%s|\n", std::string(48, '-').c_str(),
+              std::string(22, '-').c_str(), std::string(11, '-').c_str(),
+              std::string(9, '-').c_str(), std::string(9, '-').c_str(),
+              std::string(12, '-').c_str(), "------");
   for (const Row& r : rows) {
-    std::printf("| %-46s | %-20s | %9.2f | %10s | %s |\n", r.what.c_str(), r.error.c_str(), r.ms,
-                r.bytes.c_str(), r.note.c_str());
+    std::printf("| %-46s | %-20s | %9.2f | %7.2f | %7.2f | %10s | %s |\n", r.what.c_str(),
+                r.error.c_str(), r.time.wall_ms, r.time.min_ms, r.time.cpu_ms, r.bytes.c_str(),
+                r.note.c_str());
   }
   return 0;
 }

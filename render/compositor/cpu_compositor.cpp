@@ -7,6 +7,7 @@
 #include "render/compositor/border_weight.h"
 #include "render/compositor/packed_rgba.h"
 #include "render/compositor/request_check.h"
+#include "render/compositor/row_kernels.h"
 
 namespace hd::render {
 
@@ -54,6 +55,7 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
     inv_depth_.assign(n, 0.0f);
     synth_rgba_.assign(4 * n, 0);
     scratch_.assign(2 * 3 * static_cast<std::size_t>(req.viewport.width), 0.0f);
+    video_row_.assign(2 * static_cast<std::size_t>(req.viewport.width), 0u);
   }
   req_ = &req;
   out_ = &out;
@@ -99,9 +101,6 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
   const float desat = static_cast<float>(mark.synthetic_desaturation);
   const float checker_step = static_cast<float>(0.5 * mark.checker_contrast * 255.0);
   const int cell = mark.checker_cell_px;
-  const float bg[3] = {static_cast<float>(scene_->background_rgb[0]),
-                       static_cast<float>(scene_->background_rgb[1]),
-                       static_cast<float>(scene_->background_rgb[2])};
 
   // Video weight: the global one, or per pixel the continuous w2 of core (DESIGN 7).
   const double w_video =
@@ -124,65 +123,80 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
 
   const Eigen::Vector3d& q = warp_.inv_depth;
 
-  // Per-thread row scratch: where each pixel samples the frame and with what weight.
-  float* su = scratch_.data() + (row_begin == 0 ? 0 : 3 * static_cast<std::size_t>(W));
+  // Per-thread row scratch: where each pixel samples the frame, with what weight, and the texel.
+  const std::size_t band = row_begin == 0 ? 0 : 1;
+  float* su = scratch_.data() + band * 3 * static_cast<std::size_t>(W);
   float* sv = su + W;
   float* sa = sv + W;
+  uint32_t* vid = video_row_.data() + band * static_cast<std::size_t>(W);
   const float wv = static_cast<float>(w_video);
-  const uint8_t bg_rgba[4] = {scene_->background_rgb[0], scene_->background_rgb[1],
-                              scene_->background_rgb[2], 255};
+
+  RowBlend blend;
+  blend.background = static_cast<uint32_t>(scene_->background_rgb[0]) |
+                     static_cast<uint32_t>(scene_->background_rgb[1]) << 8 |
+                     static_cast<uint32_t>(scene_->background_rgb[2]) << 16 | 0xFF000000u;
+  blend.desaturate = desaturate;
+  blend.desaturation = desat;
+  blend.checker = checker;
+  blend.checker_step = checker_step;
+  blend.checker_cell_px = cell;
+  if (!any_video) std::fill(vid, vid + W, 0u);
+
+  RowWarp rw;
+  rw.h00 = H(0, 0);
+  rw.h10 = H(1, 0);
+  rw.h20 = H(2, 0);
+  rw.q0 = q(0);
+  rw.inv_near = inv_near;
+  rw.width = vwd;
+  rw.height = vhd;
+  rw.weight = wv;
 
   for (int y = row_begin; y < row_end; ++y) {
     const uint8_t* srow = synth_rgba_.data() + static_cast<long>(y) * W * 4;
     const float* drow = inv_depth_.data() + static_cast<long>(y) * W;
     uint8_t* orow = out_->pixel(req.viewport.x, req.viewport.y + y);
     if (any_video) {
-      // Pass A (branch-free, so the compiler vectorises it): the homography at every pixel
-      // centre of the row, the in-front and inside-the-frame tests.
+      // Where each pixel centre of the row meets the frame, and whether it sees it at all.
       const double pv = y + 0.5;
-      const double bx = H(0, 1) * pv + H(0, 2), by = H(1, 1) * pv + H(1, 2);
-      const double bw = H(2, 1) * pv + H(2, 2), bz = q(1) * pv + q(2);
-      const double h00 = H(0, 0), h10 = H(1, 0), h20 = H(2, 0), q0 = q(0);
-      for (int x = 0; x < W; ++x) {
-        const double px = x + 0.5;
-        const double iz = q0 * px + bz;
-        const double inv_hw = 1.0 / (h20 * px + bw);
-        const double u = (h00 * px + bx) * inv_hw;
-        const double w = (h10 * px + by) * inv_hw;
-        const bool in = iz > 0.0 && iz <= inv_near && u >= 0.0 && u <= vwd && w >= 0.0 && w <= vhd;
-        su[x] = in ? static_cast<float>(u) : 0.0f;
-        sv[x] = in ? static_cast<float>(w) : 0.0f;
-        sa[x] = in ? wv : 0.0f;
-      }
+      rw.bx = H(0, 1) * pv + H(0, 2);
+      rw.by = H(1, 1) * pv + H(1, 2);
+      rw.bw = H(2, 1) * pv + H(2, 2);
+      rw.bz = q(1) * pv + q(2);
+      warp_row_sse2(rw, W, su, sv, sa);
       if (per_pixel) {
         for (int x = 0; x < W; ++x) {
           if (sa[x] > 0.0f) sa[x] = border(su[x], sv[x]);
         }
       }
-    }
-    const int checker_row = y / cell;
-    for (int x = 0; x < W; ++x) {
-      const float a = any_video ? sa[x] : 0.0f;
-      uint8_t* o = orow + 4 * x;
-      uint32_t video = 0;  // RGBA bytes, little-endian packed
-      if (a > 0.0f) {
-        const float u = su[x], w = sv[x];
-        if (nearest) {
-          const int xi = std::min(static_cast<int>(u), vw - 1);
-          const int yi = std::min(static_cast<int>(w), vh - 1);
-          std::memcpy(&video, vdata + static_cast<long>(yi) * vstride + 4 * xi, 4);
-        } else {
-          // 8-bit fixed-point bilinear between texel centres, clamped to the edge texels; two
-          // channels per multiply. Rounding (not truncating) to 1/256 px keeps an exact texel
-          // centre exact; u, w >= 0, so the +256 offset keeps the truncated value positive.
-          const int X = static_cast<int>(u * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
-          const int Y = static_cast<int>(w * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
+      // The texel each pixel with a > 0 blends in (elsewhere 0: a = 0 ignores it).
+      if (nearest) {
+        for (int x = 0; x < W; ++x) {
+          if (!(sa[x] > 0.0f)) {
+            vid[x] = 0;
+            continue;
+          }
+          const int xi = std::min(static_cast<int>(su[x]), vw - 1);
+          const int yi = std::min(static_cast<int>(sv[x]), vh - 1);
+          std::memcpy(vid + x, vdata + static_cast<long>(yi) * vstride + 4 * xi, 4);
+        }
+      } else {
+        for (int x = 0; x < W; ++x) {
+          if (!(sa[x] > 0.0f)) {
+            vid[x] = 0;
+            continue;
+          }
+          // 8-bit fixed-point bilinear between texel centres, clamped to the edge texels.
+          // Rounding (not truncating) to 1/256 px keeps an exact texel centre exact; u, w >= 0,
+          // so the +256 offset keeps the truncated value positive.
+          const int X = static_cast<int>(su[x] * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
+          const int Y = static_cast<int>(sv[x] * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
           const int x0 = X >> 8, fx = X & 255;  // arithmetic shift: floor, also below 0
           const int y0 = Y >> 8, fy = Y & 255;
           if (static_cast<unsigned>(x0) < static_cast<unsigned>(vw - 1) &&
               static_cast<unsigned>(y0) < static_cast<unsigned>(vh - 1)) {
             // All four texels inside (nearly every pixel): no clamping.
-            video =
+            vid[x] =
                 bilinear_rgba(vdata + static_cast<long>(y0) * vstride + 4 * x0, vstride, fx, fy);
           } else {
             const int xa = std::max(x0, 0), xb = std::min(x0 + 1, vw - 1);
@@ -194,44 +208,14 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
             std::memcpy(&c10, r0 + 4 * xb, 4);
             std::memcpy(&c01, r1 + 4 * xa, 4);
             std::memcpy(&c11, r1 + 4 * xb, 4);
-            video = lerp_rgba(lerp_rgba(c00, c10, fx), lerp_rgba(c01, c11, fx), fy);
+            vid[x] = lerp_rgba(lerp_rgba(c00, c10, fx), lerp_rgba(c01, c11, fx), fy);
           }
         }
-        if (a >= 1.0f) {  // pure video: no need for the model's colour
-          video |= 0xFF000000u;
-          std::memcpy(o, &video, 4);
-          continue;
-        }
       }
-      if (a <= 0.0f && !desaturate && !checker) {  // the model as drawn (or the background)
-        if (drow[x] > 0.0f) {
-          std::memcpy(o, srow + 4 * x, 4);
-        } else {
-          std::memcpy(o, bg_rgba, 4);
-        }
-        o[3] = 255;
-        continue;
-      }
-      float s[3];
-      if (drow[x] > 0.0f) {
-        for (int c = 0; c < 3; ++c) s[c] = srow[4 * x + c];
-      } else {
-        for (int c = 0; c < 3; ++c) s[c] = bg[c];
-      }
-      if (desaturate) {
-        const float grey = 0.299f * s[0] + 0.587f * s[1] + 0.114f * s[2];
-        for (int c = 0; c < 3; ++c) s[c] += desat * (grey - s[c]);
-      } else if (checker) {
-        const float step = ((x / cell + checker_row) & 1) ? -checker_step : checker_step;
-        for (int c = 0; c < 3; ++c) s[c] = std::clamp(s[c] + step, 0.0f, 255.0f);
-      }
-      for (int c = 0; c < 3; ++c) {
-        const float v = static_cast<float>((video >> (8 * c)) & 255u);
-        const float val = s[c] + a * (v - s[c]);
-        o[c] = static_cast<uint8_t>(std::clamp(val, 0.0f, 255.0f) + 0.5f);
-      }
-      o[3] = 255;
     }
+    // out = s + a (v - s) with the marked model colour s, four pixels at a time.
+    blend.checker_row = y / cell;
+    blend_row_sse2(blend, 0, W, srow, drow, any_video ? sa : nullptr, vid, orow);
     // The variant's coloured frame is painted last, over video and model alike.
     if (mark.style == core::MarkingStyle::kFrame && mark.frame_width_px > 0) {
       const core::Rgb& fc = mark.frame_colour(req.transition.variant);

@@ -42,6 +42,7 @@ class CpuCompositor final : public Compositor {
   std::vector<uint8_t> synth_rgba_;  ///< viewport-sized synthetic colour
   std::vector<float> inv_depth_;     ///< viewport-sized depth (1/z, 0 = empty)
   std::vector<float> scratch_;       ///< per band: one row of sample u, v and video weight
+  std::vector<uint32_t> video_row_;  ///< per band: one row of sampled video texels
   CompositorStats stats_;
 
   const CompositeRequest* req_ = nullptr;  ///< valid during draw only

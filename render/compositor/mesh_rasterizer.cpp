@@ -202,6 +202,16 @@ void MeshRasterizer::draw_triangle(const TexturedMesh& mesh, const EyeVertex* v,
           // round((t - 0.5) * 256) as floor(t * 256 - 127.5), made positive by +512.
           const int X = static_cast<int>(tu * 256.0f + 384.5f) - 512;
           const int Y = static_cast<int>(tv * 256.0f + 384.5f) - 512;
+          if (static_cast<unsigned>(X >> 8) < static_cast<unsigned>(tex.width - 1) &&
+              static_cast<unsigned>(Y >> 8) < static_cast<unsigned>(tex.height - 1)) {
+            // All four texels inside: the SSE2 bilinear, bit-identical to the lerps below.
+            const uint32_t c =
+                bilinear_rgba(tdata + static_cast<long>(Y >> 8) * tex.stride_bytes + 4 * (X >> 8),
+                              tex.stride_bytes, X & 255, Y & 255) |
+                0xFF000000u;
+            std::memcpy(rgba_row + 4 * x, &c, 4);
+            continue;
+          }
           const int xa = std::clamp(X >> 8, 0, tex.width - 1);
           const int xb = std::clamp((X >> 8) + 1, 0, tex.width - 1);
           const int ya = std::clamp(Y >> 8, 0, tex.height - 1);

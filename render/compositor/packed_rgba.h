@@ -36,20 +36,21 @@ inline uint32_t bilinear_rgba(const uint8_t* p, long stride, int fx, int fy) {
   const __m128i left = _mm_unpacklo_epi8(left_right, zero);   // c00 c01, 16-bit lanes
   const __m128i right = _mm_unpackhi_epi8(left_right, zero);  // c10 c11
   const __m128i round = _mm_set1_epi16(128);
-  // Lanes stay below 65536: 255 * 256 + 128. mullo's low 16 bits are the exact product.
+  // left (256 - fx) + right fx as left 256 + (right - left) fx: the true value lies in
+  // [0, 255 * 256], so the 16-bit wrap-around of the subtraction and product cancels out.
   const __m128i rows = _mm_srli_epi16(
-      _mm_add_epi16(
-          _mm_add_epi16(_mm_mullo_epi16(left, _mm_set1_epi16(static_cast<short>(256 - fx))),
-                        _mm_mullo_epi16(right, _mm_set1_epi16(static_cast<short>(fx)))),
-          round),
+      _mm_add_epi16(_mm_add_epi16(_mm_slli_epi16(left, 8),
+                                  _mm_mullo_epi16(_mm_sub_epi16(right, left),
+                                                  _mm_set1_epi16(static_cast<short>(fx)))),
+                    round),
       8);  // top (c00..c10) in lanes 0-3, bottom (c01..c11) in lanes 4-7
-  const __m128i wy = _mm_set_epi16(static_cast<short>(fy), static_cast<short>(fy),
-                                   static_cast<short>(fy), static_cast<short>(fy),
-                                   static_cast<short>(256 - fy), static_cast<short>(256 - fy),
-                                   static_cast<short>(256 - fy), static_cast<short>(256 - fy));
-  const __m128i prod = _mm_mullo_epi16(rows, wy);
-  const __m128i sum =
-      _mm_srli_epi16(_mm_add_epi16(_mm_add_epi16(prod, _mm_srli_si128(prod, 8)), round), 8);
+  const __m128i bottom = _mm_srli_si128(rows, 8);  // the same way between the two rows
+  const __m128i sum = _mm_srli_epi16(
+      _mm_add_epi16(_mm_add_epi16(_mm_slli_epi16(rows, 8),
+                                  _mm_mullo_epi16(_mm_sub_epi16(bottom, rows),
+                                                  _mm_set1_epi16(static_cast<short>(fy)))),
+                    round),
+      8);
   return static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_packus_epi16(sum, zero)));
 #else
   uint32_t c00, c10, c01, c11;

@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "render/compositor/cpu_compositor.h"
+#include "render/compositor/look_pose.h"
 
 // Counting allocator: every operator new in this binary passes through here. GCC 12 flags the
 // malloc/free pairing inside replaced operators as a mismatch; it is the standard replacement.
@@ -43,15 +44,12 @@ using hd::drivers::Frame;
 using hd::render::CompositeRequest;
 using hd::render::CpuCompositor;
 using hd::render::ImageRgba8;
+using hd::render::look_pose;
 using hd::render::SyntheticScene;
 using hd::render::TexturedMesh;
 
 Pinhole pinhole(double f, int w, int h) {
   return Pinhole::centred(f, w, h);
-}
-
-Pose turned(double yaw_rad, const Eigen::Vector3d& t) {
-  return {Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitY()).toRotationMatrix(), t};
 }
 
 // A frame whose every pixel has a distinct, position-coded colour.
@@ -267,7 +265,7 @@ TEST(CpuCompositor, WarpOfACheckerFrameFollowsTheAnalyticRayPlaneMapping) {
   const Pinhole real = pinhole(500.0, 400, 300);
   const Pinhole eye = pinhole(350.0, 320, 240);
   const Pose T_wr = Pose::identity();
-  const Pose T_we = turned(10.0 * std::numbers::pi / 180.0, {0.12, -0.05, 0.3});
+  const Pose T_we = look_pose(10.0, 0.0, {0.12, -0.05, 0.3});
   const int cell = 20;
   Frame frame;
   frame.allocate_rgba(400, 300);
@@ -538,7 +536,7 @@ TEST(CpuCompositor, TwoThreadsGiveTheSameBytesAsOne) {
   b.allocate(300, 200);
   CompositeRequest req = video_request(eye, &frame, real);
   req.scene = &scene;
-  req.T_world_eye = turned(0.15, {0.2, 0.0, 0.1});
+  req.T_world_eye = look_pose(8.6, 0.0, {0.2, 0.0, 0.1});
   req.mode = TransitionMode::kPerPixel;
   req.transition = {Variant::kHybrid, 0.7, 0.3};
   req.marking.style = MarkingStyle::kChecker;
@@ -600,7 +598,7 @@ TEST(CpuCompositor, DrawingAllocatesNothingAfterTheFirstFrame) {
   g_counting = true;
   for (int i = 0; i < 20; ++i) {
     req.transition = {Variant::kHybrid, i / 20.0, 1.0 - i / 20.0};
-    req.T_world_eye = turned(0.01 * i, {0.01 * i, 0.0, 0.0});
+    req.T_world_eye = look_pose(0.5 * i, 0.0, {0.01 * i, 0.0, 0.0});
     comp.draw(req, out);
   }
   g_counting = false;
