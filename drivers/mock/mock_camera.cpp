@@ -88,27 +88,39 @@ SourceState MockCamera::state() const {
 void MockCamera::run() {
   const auto period_ns = static_cast<int64_t>(std::llround(1e9 / config_.rate_hz));
   int64_t shift_ns = 0;  // accumulated stall time pushes every later frame back
-  const int64_t start_ns = monotonic_now_ns();
+  int64_t start_ns = monotonic_now_ns();
+  if (config_.epoch_ns) {
+    // Join the shared clock's grid at its first slot not in the past.
+    const int64_t epoch = config_.epoch_ns();
+    const int64_t behind = start_ns - epoch;
+    start_ns = behind <= 0 ? epoch : epoch + (behind + period_ns - 1) / period_ns * period_ns;
+  }
   for (uint64_t seq = 0; running_.load(std::memory_order_relaxed); ++seq) {
     for (const MockStall& s : config_.stalls)
       if (s.before_sequence == seq) shift_ns += s.duration_ns;
     const int64_t exposure_ns = start_ns + shift_ns + static_cast<int64_t>(seq) * period_ns;
-    sleep_until(exposure_ns + config_.delivery_delay_ns, running_);
-    if (!running_.load(std::memory_order_relaxed)) break;
-    if (config_.drop_sequences.count(seq) != 0) {
+    const int64_t delay_ns =
+        config_.delivery_delay_ns + (config_.extra_delay_ns ? config_.extra_delay_ns(seq) : 0);
+    if (config_.drop_sequences.count(seq) != 0 || (config_.drop && config_.drop(seq))) {
+      sleep_until(exposure_ns + delay_ns, running_);
+      if (!running_.load(std::memory_order_relaxed)) break;
       dropped_.fetch_add(1, std::memory_order_relaxed);
       continue;
     }
+    // The picture is made before its delivery time (a simulation may look ahead), so the frame
+    // is published at exposure + delay and not later by the time it takes to render.
     Frame& f = frames_.write_slot();
+    f.sequence = seq;
+    f.host_timestamp_ns = exposure_ns;
+    f.device_timestamp_ns = exposure_ns + config_.device_clock_offset_ns;
+    f.device_time_trusted = true;
     if (config_.generator) {
       config_.generator(f, seq);
     } else {
       write_test_pattern(f, seq);
     }
-    f.sequence = seq;
-    f.host_timestamp_ns = exposure_ns;
-    f.device_timestamp_ns = exposure_ns + config_.device_clock_offset_ns;
-    f.device_time_trusted = true;
+    sleep_until(exposure_ns + delay_ns, running_);
+    if (!running_.load(std::memory_order_relaxed)) break;
     frames_.publish();
     last_publish_ns_.store(monotonic_now_ns(), std::memory_order_release);
   }

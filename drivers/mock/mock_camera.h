@@ -16,7 +16,8 @@
 
 namespace hd::drivers {
 
-/// Fills an RGBA8 frame (already sized) for device frame `sequence`.
+/// Fills an RGBA8 frame (already sized) for device frame `sequence`. The frame's sequence and
+/// timestamps (exposure) are already set when it is called.
 using FrameGenerator = std::function<void(Frame& frame, uint64_t sequence)>;
 
 /// Deterministic pattern: a gradient with the sequence number in the first 8 bytes.
@@ -40,6 +41,14 @@ struct MockCameraConfig {
   std::set<uint64_t> drop_sequences{};  ///< frames lost "on the wire": a sequence gap
   std::vector<MockStall> stalls{};
   int64_t stall_timeout_ns = 200'000'000;
+  // For the simulator (render/sim): a clock shared with other devices, per-frame delays, drops.
+  /// Host time of the shared t = 0: frames are exposed on the grid epoch + k / rate_hz, the first
+  /// at or after start(). Empty: the grid starts at start().
+  std::function<int64_t()> epoch_ns{};
+  /// Extra delivery delay of frame `sequence` (added to delivery_delay_ns; e.g. jitter).
+  std::function<int64_t(uint64_t sequence)> extra_delay_ns{};
+  /// True: frame `sequence` is lost like those in drop_sequences.
+  std::function<bool(uint64_t sequence)> drop{};
 };
 
 class MockCamera : public CameraSource {

@@ -65,9 +65,15 @@ SourceState MockPoseSource::state() const {
 
 void MockPoseSource::run() {
   const auto period_ns = static_cast<int64_t>(std::llround(1e9 / config_.rate_hz));
-  const int64_t start_ns = monotonic_now_ns();
+  int64_t start_ns = monotonic_now_ns();
+  int64_t first_ns = start_ns;
+  if (config_.epoch_ns) {
+    start_ns = config_.epoch_ns();  // t_s counts from the shared epoch
+    const int64_t behind = first_ns - start_ns;
+    first_ns = behind <= 0 ? start_ns : start_ns + (behind + period_ns - 1) / period_ns * period_ns;
+  }
   for (uint64_t seq = 0; running_.load(std::memory_order_relaxed); ++seq) {
-    const int64_t due_ns = start_ns + static_cast<int64_t>(seq) * period_ns;
+    const int64_t due_ns = first_ns + static_cast<int64_t>(seq) * period_ns;
     const int64_t wait_ns = due_ns - monotonic_now_ns();
     if (wait_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait_ns));
     PoseSample& s = latest_.write_slot();
@@ -75,6 +81,8 @@ void MockPoseSource::run() {
     s.sequence = seq;
     s.host_timestamp_ns = due_ns;
     s.device_timestamp_ns = due_ns - start_ns;
+    if (config_.sample_filter)
+      config_.sample_filter(s, static_cast<double>(due_ns - start_ns) * 1e-9);
     history_.push(s);
     latest_.publish();
     last_publish_ns_.store(monotonic_now_ns(), std::memory_order_release);

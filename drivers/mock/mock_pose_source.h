@@ -21,6 +21,11 @@ struct MockPoseSourceConfig {
   double rate_hz = 500.0;
   bool has_position = true;
   int64_t stall_timeout_ns = 100'000'000;
+  /// Host time of the shared t = 0 (render/sim): samples on the grid epoch + k / rate_hz, the
+  /// first at or after start(), with t_s measured from the epoch. Empty: from start().
+  std::function<int64_t()> epoch_ns{};
+  /// Applied to each sample before it is published (simulated tracker noise and drift).
+  std::function<void(PoseSample& sample, double t_s)> sample_filter{};
 };
 
 ScriptedMotion from_trajectory(Trajectory trajectory);

@@ -101,7 +101,13 @@ std::string closest_match(std::string_view word, const std::vector<std::string>&
   std::string best;
   std::size_t best_d = limit + 1;
   for (const auto& c : candidates) {
-    const std::size_t d = edit_distance(w, lower(c));
+    const std::string lc = lower(c);
+    std::size_t d = edit_distance(w, lc);
+    // A key without its unit suffix ("rate" for "rate_hz") is a likely slip too.
+    if (!w.empty() && lc.size() > w.size() && lc.compare(0, w.size(), w) == 0 &&
+        lc[w.size()] == '_') {
+      d = std::min<std::size_t>(d, 1);
+    }
     if (d < best_d) {
       best_d = d;
       best = c;

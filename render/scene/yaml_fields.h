@@ -49,8 +49,8 @@ YAML::Node load_yaml_file(const std::string& path);
 /// Parses YAML text; `name` stands for the file in error messages.
 YAML::Node parse_yaml(const std::string& text, const std::string& name);
 
-/// The candidate closest to `word` (case-insensitive edit distance) if close enough to be a likely
-/// typo, else "".
+/// The candidate closest to `word` (case-insensitive edit distance; a candidate that is `word`
+/// plus a "_suffix" counts as one edit) if close enough to be a likely typo, else "".
 std::string closest_match(std::string_view word, const std::vector<std::string>& candidates);
 
 /// One node of a parsed document with where it came from (file, dotted field path).

@@ -157,6 +157,7 @@ TEST(YamlFields, ClosestMatchIgnoresFarWords) {
   EXPECT_EQ(closest_match("fxx", {"fx", "fy", "cx"}), "fx");
   EXPECT_EQ(closest_match("k", {"position", "rate_hz"}), "");
   EXPECT_EQ(closest_match("RATE_HZ", {"rate_hz"}), "rate_hz");
+  EXPECT_EQ(closest_match("rate", {"position", "rate_hz"}), "rate_hz");  // unit suffix forgotten
 }
 
 }  // namespace
