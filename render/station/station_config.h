@@ -44,7 +44,7 @@ struct DisplayConfig {
   bool fullscreen = false;
   bool stereo = true;
   double ipd_m = 0.064;
-  core::Pinhole eye;  ///< p_o per eye
+  core::Pinhole eye = core::Pinhole::centred(0.9 * 480, 480, 400);  ///< p_o per eye
   double rate_hz = 90.0;
   double scanout_ms = 2.0;
 };
