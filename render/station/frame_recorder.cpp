@@ -19,8 +19,10 @@ FrameRecorder::FrameRecorder(int width, int height, FrameRecorderOptions options
   if (!options_.video_path.empty()) {
     // The temp name keeps the .avi suffix: OpenCV picks the container from it.
     video_tmp_ = options_.video_path + ".tmp.avi";
-    const bool ok = video_.open(video_tmp_, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
-                                options_.video_fps, cv::Size(width, height), true);
+    // OpenCV's own MJPG-in-AVI writer: no GStreamer/FFmpeg plug-in needed, same on every machine.
+    const bool ok =
+        video_.open(video_tmp_, cv::CAP_OPENCV_MJPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
+                    options_.video_fps, cv::Size(width, height), true);
     if (!ok) {
       std::error_code ec;
       std::filesystem::remove(video_tmp_, ec);

@@ -41,7 +41,7 @@ void write_frames_csv(const FrameLog& log, const std::vector<std::string>& camer
                              ? camera_names[static_cast<std::size_t>(r.camera)].c_str()
                              : "";
       std::snprintf(buf, sizeof buf,
-                    "%" PRIu64 ",%.6f,%s,%.4f,%d,%s,%s,%d,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n",
+                    "%" PRIu64 ",%.6f,%s,%.9f,%d,%s,%s,%d,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n",
                     r.frame, row.t_s, m_text, r.w_video, r.camera, name, variant_name(r.variant),
                     int{row.missed_deadline}, int{r.guidance}, r.guidance_distance_m,
                     r.guidance_dir_x, r.guidance_dir_y, r.head_x_m, r.head_y_m, r.head_z_m);

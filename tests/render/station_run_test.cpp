@@ -1,0 +1,308 @@
+// hybrid-station run, as a user runs it: the built program on the default scene and on the mock
+// station config writes every output with one row per frame and values in range; the video reads
+// back with the frame count the run reports; broken files and missing devices exit non-zero with
+// a message naming the file:line:field or the device.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "render/latency/latency_recorder.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+class StationRunTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("station_run_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    if (!HasFailure()) fs::remove_all(dir_, ec);
+  }
+
+  // Runs the built hybrid-station in `cwd` with `args`.
+  Result run(const std::string& args, const fs::path& cwd = HD_SOURCE_DIR) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = "cd '" + cwd.string() + "' && '" HD_STATION_BIN "' run " + args +
+                            " > '" + out.string() + "' 2> '" + err.string() + "'";
+    const int status = std::system(cmd.c_str());
+    Result r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+  }
+
+  fs::path dir_;
+};
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream s(line);
+  std::string cell;
+  while (std::getline(s, cell, ',')) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+};
+
+CsvTable read_csv(const fs::path& p) {
+  CsvTable t;
+  std::ifstream f(p);
+  std::string line;
+  if (!std::getline(f, line)) return t;
+  t.header = split(line);
+  while (std::getline(f, line)) {
+    const std::vector<std::string> cells = split(line);
+    EXPECT_EQ(cells.size(), t.header.size()) << line;
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < cells.size() && i < t.header.size(); ++i)
+      row[t.header[i]] = cells[i];
+    t.rows.push_back(row);
+  }
+  return t;
+}
+
+// frames.csv: one row per frame, in order, each value in its range, the variant consistent with
+// w_video (video: 1, synthetic: 0, hybrid: in between) and the camera name with its index.
+void check_frames_csv(const fs::path& p, uint64_t frames,
+                      const std::vector<std::string>& camera_names) {
+  const CsvTable t = read_csv(p);
+  const std::vector<std::string> expected_header = {"frame",
+                                                    "t_s",
+                                                    "m",
+                                                    "w_video",
+                                                    "camera",
+                                                    "camera_name",
+                                                    "variant",
+                                                    "missed_deadline",
+                                                    "guidance",
+                                                    "guidance_distance_m",
+                                                    "guidance_dir_x",
+                                                    "guidance_dir_y",
+                                                    "head_x_m",
+                                                    "head_y_m",
+                                                    "head_z_m"};
+  ASSERT_EQ(t.header, expected_header);
+  ASSERT_EQ(t.rows.size(), frames);
+  double last_t = -1.0;
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    auto r = t.rows[i];
+    SCOPED_TRACE("row " + std::to_string(i));
+    EXPECT_EQ(std::stoull(r["frame"]), i);
+    const double ts = std::stod(r["t_s"]);
+    EXPECT_GE(ts, last_t);
+    last_t = ts;
+    const double m = r["m"] == "inf" ? INFINITY : std::stod(r["m"]);
+    EXPECT_GE(m, 0.0);
+    const double w = std::stod(r["w_video"]);
+    EXPECT_GE(w, 0.0);
+    EXPECT_LE(w, 1.0);
+    const int cam = std::stoi(r["camera"]);
+    EXPECT_GE(cam, -1);
+    EXPECT_LT(cam, static_cast<int>(camera_names.size()));
+    EXPECT_EQ(r["camera_name"], cam >= 0 ? camera_names[static_cast<std::size_t>(cam)] : "");
+    if (cam < 0) {
+      EXPECT_TRUE(std::isinf(m));
+    }
+    const std::string v = r["variant"];
+    if (v == "video")
+      EXPECT_EQ(w, 1.0);
+    else if (v == "synthetic")
+      EXPECT_EQ(w, 0.0);
+    else if (v == "hybrid")
+      EXPECT_TRUE(w > 0.0 && w < 1.0) << w;
+    else
+      ADD_FAILURE() << "variant " << v;
+    EXPECT_TRUE(r["missed_deadline"] == "0" || r["missed_deadline"] == "1");
+    EXPECT_TRUE(r["guidance"] == "0" || r["guidance"] == "1");
+    for (const char* k : {"head_x_m", "head_y_m", "head_z_m"})
+      EXPECT_TRUE(std::isfinite(std::stod(r[k])));
+  }
+}
+
+void expect_png(const fs::path& p, int min_width, int min_height) {
+  const cv::Mat img = cv::imread(p.string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(img.empty()) << p;
+  EXPECT_GE(img.cols, min_width) << p;
+  EXPECT_GE(img.rows, min_height) << p;
+}
+
+nlohmann::json summary(const fs::path& dir) {
+  return nlohmann::json::parse(slurp(dir / "summary.json"));
+}
+
+// Frames in a video, counted by decoding them all (not the container's claim).
+int decoded_frames(const fs::path& p, cv::Size& size) {
+  cv::VideoCapture cap(p.string());
+  if (!cap.isOpened()) return -1;
+  int n = 0;
+  cv::Mat f;
+  while (cap.read(f)) {
+    size = f.size();
+    ++n;
+  }
+  return n;
+}
+
+TEST_F(StationRunTest, DefaultSceneWritesEveryOutputAndTheVideoReadsBack) {
+  const fs::path out = dir_ / "out";
+  const Result r =
+      run("--scene scenes/default.yaml --headless --frames 60 --eye-width 160 "
+          "--eye-height 120 --png-every 20 --video '" +
+          (out / "run.avi").string() + "' --out '" + out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("camera   ok      sim:cam0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("tracker  ok      sim:head"), std::string::npos) << r.out;
+
+  check_frames_csv(out / "frames.csv", 60, {"sim:cam0", "sim:cam1"});
+  EXPECT_EQ(hd::render::LatencyRecorder::read_csv((out / "latency.csv").string()).size(), 60u);
+  expect_png(out / "latency.png", 100, 100);
+  expect_png(out / "trace.png", 1200, 720);
+  expect_png(out / "contact_sheet.png", 160, 60);
+
+  const nlohmann::json s = summary(out);
+  EXPECT_EQ(s["frames"].get<uint64_t>(), 60u);
+  EXPECT_EQ(s["frames_csv_rows"].get<uint64_t>(), 60u);
+  // Every frame went to the video unless the writer was behind, which the run counts.
+  const uint64_t video = s["video_frames"].get<uint64_t>();
+  EXPECT_GT(video, 0u);
+  EXPECT_EQ(video + s["recorder_dropped"].get<uint64_t>(), 60u);
+  cv::Size size;
+  EXPECT_EQ(decoded_frames(out / "run.avi", size), static_cast<int>(video));
+  EXPECT_EQ(size, cv::Size(2 * 160, 120));  // stereo: both eyes side by side
+  // PNG frames at 0, 20, 40 (each one the run says it wrote exists).
+  int pngs = 0;
+  for (const char* name : {"frame_000000.png", "frame_000020.png", "frame_000040.png"})
+    if (fs::exists(out / name)) {
+      expect_png(out / name, 320, 120);
+      ++pngs;
+    }
+  EXPECT_EQ(pngs, s["png_frames"].get<int>());
+  // Nothing half-written is left behind.
+  for (const auto& e : fs::directory_iterator(out))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+TEST_F(StationRunTest, MockStationConfigRunsItsDevicesAndSkipsTheOptionalMissingOne) {
+  const fs::path out = dir_ / "out";
+  const Result r =
+      run("--config scenes/station-mock.yaml --headless --frames 60 --out '" + out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("camera   ok      front (mock)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("camera   ok      side (mock:320x240)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("camera   skipped spare (/dev/video99)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("tracker  ok      mock"), std::string::npos) << r.out;
+  check_frames_csv(out / "frames.csv", 60, {"front", "side"});
+  for (const char* f : {"latency.csv", "latency.png", "trace.png", "contact_sheet.png"})
+    EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
+  const nlohmann::json s = summary(out);
+  EXPECT_EQ(s["frames"].get<uint64_t>(), 60u);
+  ASSERT_EQ(s["cameras"].size(), 2u);
+  EXPECT_EQ(s["cameras"][0]["frames_rejected"].get<uint64_t>(), 0u);
+  EXPECT_EQ(s["cameras"][1]["frames_rejected"].get<uint64_t>(), 0u);
+  EXPECT_GT(s["head"]["accepted"].get<uint64_t>(), 0u);
+}
+
+TEST_F(StationRunTest, BrokenSceneExitsWithFileLineAndField) {
+  std::string text = slurp(fs::path(HD_SOURCE_DIR) / "scenes" / "default.yaml");
+  if (!text.empty() && text.back() != '\n') text += '\n';
+  const int line = static_cast<int>(std::count(text.begin(), text.end(), '\n')) + 1;
+  text += "bogus_key: 1\n";
+  const fs::path scene = dir_ / "broken.yaml";
+  std::ofstream(scene) << text;
+  const Result r = run("--scene '" + scene.string() + "' --headless --frames 5 --out '" +
+                       (dir_ / "out").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find(scene.string() + ":" + std::to_string(line) + ":"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("bogus_key"), std::string::npos) << r.err;
+}
+
+TEST_F(StationRunTest, BrokenConfigExitsWithFileLineAndField) {
+  const fs::path config = dir_ / "station.yaml";
+  const std::string cal = (fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml").string();
+  std::ofstream(config) << "cameras: [{id: mock, calibration: '" << cal << "', d_m: 1.5}]\n"
+                        << "tracker: {id: mock}\n"
+                        << "workspace: {min_m: [-1, -1, 0.5], max_m: [1, 1, 2]}\n"
+                        << "transition:\n"
+                        << "  mode: per_pixel\n"
+                        << "  m_t: -3\n";
+  const Result r = run("--config '" + config.string() + "' --headless --frames 5 --out '" +
+                       (dir_ / "out").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find(config.string() + ":6:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("transition.m_t"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "frames.csv"));
+}
+
+TEST_F(StationRunTest, MissingRequiredDeviceIsNamedWithItsReason) {
+  const fs::path config = dir_ / "station.yaml";
+  const std::string cal = (fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml").string();
+  std::ofstream(config) << "cameras:\n"
+                        << "  - {name: main, id: /dev/video98, calibration: '" << cal
+                        << "', d_m: 1.5}\n"
+                        << "tracker: {id: 'ffff:fffe'}\n"
+                        << "workspace: {min_m: [-1, -1, 0.5], max_m: [1, 1, 2]}\n";
+  const Result r = run("--config '" + config.string() + "' --headless --frames 5 --out '" +
+                       (dir_ / "out").string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_NE(r.out.find("camera   MISSING main (/dev/video98): "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("tracker  MISSING ffff:fffe: no HID device ffff:fffe"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.err.find("/dev/video98"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("ffff:fffe"), std::string::npos) << r.err;
+}
+
+TEST_F(StationRunTest, DefaultSceneIsFoundAndSaysWhere) {
+  // From the checkout: scenes/default.yaml in the current directory.
+  Result r = run("--headless --frames 3 --eye-width 64 --eye-height 48 --out '" +
+                 (dir_ / "a").string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("default scene scenes/default.yaml (found in the current directory)"),
+            std::string::npos)
+      << r.out;
+  // From elsewhere: the source tree the program was built from.
+  r = run(
+      "--headless --frames 3 --eye-width 64 --eye-height 48 --out '" + (dir_ / "b").string() + "'",
+      dir_);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("(found in the source tree " HD_SOURCE_DIR ")"), std::string::npos) << r.out;
+}
+
+}  // namespace
