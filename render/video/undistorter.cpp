@@ -1,11 +1,16 @@
 #include "render/video/undistorter.h"
 
 #include <cstddef>
+#include <cstring>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 #include "render/video/frame_copy.h"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace hd::render {
 namespace {
@@ -86,9 +91,30 @@ bool Undistorter::apply(const drivers::Frame& src, drivers::Frame& dst) const {
       if (sx >= 0 && sy >= 0 && sx + 1 < w && sy + 1 < h) {
         const uint8_t* p0 = s + sy * ss + 4 * sx;
         const uint8_t* p1 = p0 + ss;
+#if defined(__SSE2__)
+        // Same integer sums as the scalar branch, four channels at once: each row's two pixels
+        // are paired per channel (r0 r1 g0 g1 ...) and multiplied-added with (w_left, w_right).
+        const __m128i zero = _mm_setzero_si128();
+        const __m128i a =
+            _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p0)), zero);
+        const __m128i b =
+            _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p1)), zero);
+        const __m128i a_pairs = _mm_unpacklo_epi16(a, _mm_srli_si128(a, 8));
+        const __m128i b_pairs = _mm_unpacklo_epi16(b, _mm_srli_si128(b, 8));
+        const __m128i wa = _mm_set1_epi32(
+            static_cast<int>((static_cast<uint32_t>(w10) << 16) | static_cast<uint32_t>(w00)));
+        const __m128i wb = _mm_set1_epi32(
+            static_cast<int>((static_cast<uint32_t>(w11) << 16) | static_cast<uint32_t>(w01)));
+        __m128i sum = _mm_add_epi32(_mm_madd_epi16(a_pairs, wa), _mm_madd_epi16(b_pairs, wb));
+        sum = _mm_srli_epi32(_mm_add_epi32(sum, _mm_set1_epi32(512)), 10);
+        const __m128i packed = _mm_packus_epi16(_mm_packs_epi32(sum, zero), zero);
+        const int rgba = _mm_cvtsi128_si32(packed);
+        std::memcpy(out, &rgba, 4);
+#else
         for (int c = 0; c < 4; ++c)
           out[c] = static_cast<uint8_t>(
               (w00 * p0[c] + w10 * p0[4 + c] + w01 * p1[c] + w11 * p1[4 + c] + 512) >> 10);
+#endif
       } else {
         // Border: neighbours outside the frame are transparent black (BORDER_CONSTANT 0).
         const bool x0 = sx >= 0 && sx < w, x1 = sx + 1 >= 0 && sx + 1 < w;
