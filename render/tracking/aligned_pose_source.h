@@ -26,7 +26,8 @@ struct AlignedPoseSourceConfig {
 ///
 /// id(), state() and open() forward to the wrapped source; rejected_reports() is the wrapped
 /// count plus samples this stage rejected (non-finite pose). start()/stop() start and stop both.
-/// Per sample: no allocation, no lock.
+/// Per sample: no allocation, no lock. The wrapped source must outlive this one (the destructor
+/// stops it).
 class AlignedPoseSource final : public drivers::PoseSource {
  public:
   /// Throws std::invalid_argument for a bad alignment configuration.
