@@ -6,9 +6,13 @@
 #include <Eigen/Geometry>
 
 #include "core/allocation_counter.h"
+#include "drivers/mock/mock_camera.h"
+#include "drivers/mock/mock_pose_source.h"
 #include "render/compositor/cpu_compositor.h"
+#include "render/loop/station_frame.h"
 #include "render/overlay/hud_strip.h"
 #include "render/overlay/overlay_painter.h"
+#include "render/prediction/constant_velocity_predictor.h"
 #include "render/selection/guidance_cue.h"
 
 namespace hd::render {
@@ -50,6 +54,80 @@ TEST(OverlayNoAllocation, HundredOverlayDrawsAllocateNothing) {
   EXPECT_GT(left, 320 * 18);
   EXPECT_GT(right, 50);
   EXPECT_NE(out.data, blank);
+}
+
+// The station frame with a HUD line set and the head far from the only camera (synthetic view,
+// guidance on): every tick draws frustum, arrow and HUD, and allocates nothing.
+TEST(OverlayNoAllocation, StationFrameDrawsGuidanceAndHudWithoutAllocating) {
+  drivers::MockCameraConfig cc;
+  cc.width = 160;
+  cc.height = 120;
+  cc.rate_hz = 120.0;
+  drivers::MockCamera camera(cc);
+  drivers::MockPoseSourceConfig pc;
+  pc.motion = [](double t_s) {
+    drivers::TrajectorySample s;
+    s.t_s = t_s;
+    s.position_m = {1.0 + 0.05 * t_s, -0.2, -0.8};  // 1.3 m from the camera: synthetic only
+    s.q = Eigen::Quaterniond(Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitY()));
+    return s;
+  };
+  pc.rate_hz = 500.0;
+  drivers::MockPoseSource pose(pc);
+  camera.open();
+  pose.open();
+  camera.start();
+  pose.start();
+
+  StationFrameConfig cfg;
+  cfg.rig.eye = {core::Pinhole::centred(150, 160, 120), core::Pinhole::centred(150, 160, 120)};
+  cfg.workspace.min_m = {-1, -1, 1};
+  cfg.workspace.max_m = {1, 1, 3};
+  cfg.transition.m_t = 8;
+  cfg.transition.eps = 3;
+  cfg.transition.time_constant_s = 0.0;
+  cfg.max_rows = 200;
+  cfg.marking.style = core::MarkingStyle::kNone;  // the background stays (40, 40, 48)
+  const StationCamera cams[] = {
+      {&camera, core::Pinhole::centred(160, 160, 120), core::Pose::identity(), 2.0}};
+  ConstantVelocityPredictor predictor;
+  CpuCompositor compositor(1);
+  MonotonicLoopClock clock;
+  LatencyRecorder latency(200);
+  StationFrame frame(cfg, cams, pose, predictor, compositor, nullptr, clock, latency);
+  FrameLoop loop(FrameLoopConfig{240.0, 2'000'000, true}, clock);
+  frame.set_hud_text("warming up");
+  loop.run(20, frame);
+  frame.set_hud_text(latency.hud_line());  // outside the counted ticks, as the run loop does
+  hd::core::reset_counted_allocations();
+  hd::core::count_allocations_on_this_thread(true);
+  loop.run(100, frame);
+  hd::core::count_allocations_on_this_thread(false);
+  camera.stop();
+  pose.stop();
+  EXPECT_EQ(hd::core::counted_allocations(), 0u);
+
+  int guided = 0;
+  for (const FrameRow& r : frame.rows()) guided += r.guidance;
+  EXPECT_EQ(guided, 120);
+  // Eye 0's top-left holds the HUD strip: the background (40, 40, 48) darkened by alpha 160.
+  const ImageRgba8& img = frame.image();
+  const int strip_h = frame.hud().image().height;
+  ASSERT_EQ(frame.hud().image().width, 160);
+  EXPECT_EQ(img.pixel(0, 0)[0], (95 * 40 + 127) / 255);
+  // Eye 1 (x >= 160) has no strip.
+  EXPECT_NE(img.pixel(160 + 5, 1)[0], (95 * 40 + 127) / 255);
+  // Both eyes show frustum or arrow pixels.
+  int overlay_left = 0, overlay_right = 0;
+  for (int y = strip_h; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const uint8_t* p = img.pixel(x, y);
+      const bool cue =
+          (p[0] == 0 && p[1] == 255 && p[2] == 255) || (p[0] == 255 && p[1] == 220 && p[2] == 0);
+      (x < 160 ? overlay_left : overlay_right) += cue;
+    }
+  EXPECT_GT(overlay_left, 30);
+  EXPECT_GT(overlay_right, 30);
 }
 
 }  // namespace
