@@ -19,6 +19,8 @@ namespace hd::render {
 /// BORDER_CONSTANT(0) semantics (a test compares the two) because cv::remap allocates a
 /// scratch Mat and a thread-pool job per call, and the per-frame path must not allocate.
 /// Source samples outside the frame count as transparent black (as cv::remap's border).
+/// Interior pixels run an SSE2 kernel with the same integer sums (bit-identical to the scalar
+/// path and to cv::remap: docs/video-and-model.md).
 class Undistorter {
  public:
   Undistorter() = default;
