@@ -8,6 +8,10 @@
 #include <cmath>
 #include <numbers>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace hd::render {
 
 /// The shaping sinusoid of w2, s(t) = (sin((t - 1/2) pi) + 1) / 2 on t in [0, 1], as a table
@@ -33,6 +37,22 @@ class SinusoidTable {
     const float f = x - static_cast<float>(i);
     return s[i] + f * (s[i + 1] - s[i]);
   }
+
+  /// s(t) four at a time, t in [0, 1] or clamped: the same float operations as at().
+#if defined(__SSE2__)
+  static __m128 at4(__m128 t) {
+    const float* s = table().data();
+    const __m128 x = _mm_mul_ps(_mm_min_ps(_mm_max_ps(t, _mm_setzero_ps()), _mm_set1_ps(1.0f)),
+                                _mm_set1_ps(static_cast<float>(kIntervals)));
+    const __m128i i = _mm_cvttps_epi32(x);
+    const __m128 f = _mm_sub_ps(x, _mm_cvtepi32_ps(i));
+    alignas(16) int idx[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(idx), i);
+    const __m128 s0 = _mm_setr_ps(s[idx[0]], s[idx[1]], s[idx[2]], s[idx[3]]);
+    const __m128 s1 = _mm_setr_ps(s[idx[0] + 1], s[idx[1] + 1], s[idx[2] + 1], s[idx[3] + 1]);
+    return _mm_add_ps(s0, _mm_mul_ps(f, _mm_sub_ps(s1, s0)));
+  }
+#endif
 
  private:
   static const std::array<float, kIntervals + 2>& table() {
@@ -82,6 +102,62 @@ class BorderWeight {
       w = (1.0 - (bx ? x : y)) * inv_kappa_;
     }
     return static_cast<float>(strength_) * SinusoidTable::at(static_cast<float>(w));
+  }
+
+  /// a[x] = (*this)(u[x], v[x]) wherever a[x] > 0, for x in [0, n), one pixel at a time.
+  void apply_row_scalar(int n, const float* u, const float* v, float* a) const {
+    for (int x = 0; x < n; ++x) {
+      if (a[x] > 0.0f) a[x] = (*this)(u[x], v[x]);
+    }
+  }
+
+  /// The same, four pixels at a time with SSE2 (the same double and float operations, lane by
+  /// lane, so the same bits; tests/render/compositor_row_kernels_test.cpp).
+  void apply_row(int n, const float* u, const float* v, float* a) const {
+    int x = 0;
+#if defined(__SSE2__)
+    if (kappa_ > 0.0) {
+      const __m128d one = _mm_set1_pd(1.0), inner = _mm_set1_pd(inner_);
+      const __m128d inv_kappa = _mm_set1_pd(inv_kappa_);
+      const __m128d sx = _mm_set1_pd(two_over_w_), sy = _mm_set1_pd(two_over_h_);
+      const __m128d sign = _mm_set1_pd(-0.0);
+      const __m128 strength = _mm_set1_ps(static_cast<float>(strength_));
+      // w (as float) and "in the inner rectangle" for two pixels from their positions.
+      auto pair = [&](__m128 uf, __m128 vf, __m128& w, __m128& flat) {
+        const __m128d px =
+            _mm_min_pd(_mm_andnot_pd(sign, _mm_sub_pd(one, _mm_mul_pd(_mm_cvtps_pd(uf), sx))), one);
+        const __m128d py =
+            _mm_min_pd(_mm_andnot_pd(sign, _mm_sub_pd(one, _mm_mul_pd(_mm_cvtps_pd(vf), sy))), one);
+        const __m128d bx = _mm_cmpgt_pd(px, inner), by = _mm_cmpgt_pd(py, inner);
+        const __m128d dx = _mm_sub_pd(px, inner), dy = _mm_sub_pd(py, inner);
+        const __m128d corner = _mm_sub_pd(
+            one,
+            _mm_mul_pd(_mm_sqrt_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy))), inv_kappa));
+        const __m128d edge_pos = _mm_or_pd(_mm_and_pd(bx, px), _mm_andnot_pd(bx, py));
+        const __m128d edge = _mm_mul_pd(_mm_sub_pd(one, edge_pos), inv_kappa);
+        const __m128d both = _mm_and_pd(bx, by);
+        const __m128d wd = _mm_or_pd(_mm_and_pd(both, corner), _mm_andnot_pd(both, edge));
+        w = _mm_cvtpd_ps(wd);
+        const __m128 f = _mm_castpd_ps(_mm_or_pd(bx, by));
+        flat = _mm_shuffle_ps(f, f, _MM_SHUFFLE(2, 0, 2, 0));  // lanes 0, 1: "not flat"
+      };
+      for (; x + 4 <= n; x += 4) {
+        const __m128 av = _mm_loadu_ps(a + x);
+        const __m128 live = _mm_cmpgt_ps(av, _mm_setzero_ps());
+        if (_mm_movemask_ps(live) == 0) continue;
+        const __m128 uf = _mm_loadu_ps(u + x), vf = _mm_loadu_ps(v + x);
+        __m128 w0, w1, b0, b1;
+        pair(uf, vf, w0, b0);
+        pair(_mm_movehl_ps(uf, uf), _mm_movehl_ps(vf, vf), w1, b1);
+        const __m128 w = _mm_movelh_ps(w0, w1), border = _mm_movelh_ps(b0, b1);
+        const __m128 shaped = _mm_mul_ps(strength, SinusoidTable::at4(w));
+        const __m128 weight =
+            _mm_or_ps(_mm_and_ps(border, shaped), _mm_andnot_ps(border, strength));
+        _mm_storeu_ps(a + x, _mm_or_ps(_mm_and_ps(live, weight), _mm_andnot_ps(live, av)));
+      }
+    }
+#endif
+    apply_row_scalar(n - x, u + x, v + x, a + x);
   }
 
  private:

@@ -4,6 +4,10 @@
 #include <cmath>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "render/compositor/border_weight.h"
 #include "render/compositor/packed_rgba.h"
 #include "render/compositor/request_check.h"
@@ -12,6 +16,26 @@
 namespace hd::render {
 
 namespace {
+
+// X = round(u * 256 - 128) as floor(u * 256 + 128.5) - 256 (u >= 0), likewise Y: the texel
+// grid position in 1/256 px, for the bilinear sample.
+void fixed_point_positions(int n, const float* u, const float* v, int* X, int* Y) {
+  int x = 0;
+#if defined(__SSE2__)
+  const __m128 scale = _mm_set1_ps(256.0f), offset = _mm_set1_ps(256.0f - 128.0f + 0.5f);
+  const __m128i shift = _mm_set1_epi32(256);
+  for (; x + 4 <= n; x += 4) {
+    const __m128i fx = _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(u + x), scale), offset));
+    const __m128i fy = _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(v + x), scale), offset));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(X + x), _mm_sub_epi32(fx, shift));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(Y + x), _mm_sub_epi32(fy, shift));
+  }
+#endif
+  for (; x < n; ++x) {
+    X[x] = static_cast<int>(u[x] * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
+    Y[x] = static_cast<int>(v[x] * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
+  }
+}
 
 const SyntheticScene& empty_scene() {
   static const SyntheticScene scene;
@@ -56,6 +80,7 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
     synth_rgba_.assign(4 * n, 0);
     scratch_.assign(2 * 3 * static_cast<std::size_t>(req.viewport.width), 0.0f);
     video_row_.assign(2 * static_cast<std::size_t>(req.viewport.width), 0u);
+    fixed_.assign(2 * 2 * static_cast<std::size_t>(req.viewport.width), 0);
   }
   req_ = &req;
   out_ = &out;
@@ -164,11 +189,7 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
       rw.bw = H(2, 1) * pv + H(2, 2);
       rw.bz = q(1) * pv + q(2);
       warp_row_sse2(rw, W, su, sv, sa);
-      if (per_pixel) {
-        for (int x = 0; x < W; ++x) {
-          if (sa[x] > 0.0f) sa[x] = border(su[x], sv[x]);
-        }
-      }
+      if (per_pixel) border.apply_row(W, su, sv, sa);
       // The texel each pixel with a > 0 blends in (elsewhere 0: a = 0 ignores it).
       if (nearest) {
         for (int x = 0; x < W; ++x) {
@@ -181,16 +202,20 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
           std::memcpy(vid + x, vdata + static_cast<long>(yi) * vstride + 4 * xi, 4);
         }
       } else {
+        // 8-bit fixed-point bilinear between texel centres, clamped to the edge texels.
+        // Rounding (not truncating) to 1/256 px keeps an exact texel centre exact; u, w >= 0,
+        // so the +256 offset keeps the truncated value positive. Fixed-point positions four at
+        // a time (the same float operations as one at a time), texels one at a time.
+        int* fixed_x = fixed_.data() + band * 2 * static_cast<std::size_t>(W);
+        int* fixed_y = fixed_x + W;
+        fixed_point_positions(W, su, sv, fixed_x, fixed_y);
         for (int x = 0; x < W; ++x) {
           if (!(sa[x] > 0.0f)) {
             vid[x] = 0;
             continue;
           }
-          // 8-bit fixed-point bilinear between texel centres, clamped to the edge texels.
-          // Rounding (not truncating) to 1/256 px keeps an exact texel centre exact; u, w >= 0,
-          // so the +256 offset keeps the truncated value positive.
-          const int X = static_cast<int>(su[x] * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
-          const int Y = static_cast<int>(sv[x] * 256.0f + (256.0f - 128.0f + 0.5f)) - 256;
+          const int X = fixed_x[x];
+          const int Y = fixed_y[x];
           const int x0 = X >> 8, fx = X & 255;  // arithmetic shift: floor, also below 0
           const int y0 = Y >> 8, fy = Y & 255;
           if (static_cast<unsigned>(x0) < static_cast<unsigned>(vw - 1) &&

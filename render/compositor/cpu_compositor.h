@@ -43,6 +43,7 @@ class CpuCompositor final : public Compositor {
   std::vector<float> inv_depth_;     ///< viewport-sized depth (1/z, 0 = empty)
   std::vector<float> scratch_;       ///< per band: one row of sample u, v and video weight
   std::vector<uint32_t> video_row_;  ///< per band: one row of sampled video texels
+  std::vector<int> fixed_;           ///< per band: one row of 1/256 px texel positions X, Y
   CompositorStats stats_;
 
   const CompositeRequest* req_ = nullptr;  ///< valid during draw only

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <vector>
 
+#include "render/compositor/border_weight.h"
 #include "render/compositor/packed_rgba.h"
 #include "render/compositor/row_kernels.h"
 
@@ -62,6 +63,29 @@ RC_GTEST_PROP(RowKernels, Sse2WarpRowGivesTheScalarBitsForAnyHomography, ()) {
     RC_ASSERT(bits(u0[x]) == bits(u1[x]));
     RC_ASSERT(bits(v0[x]) == bits(v1[x]));
     RC_ASSERT(bits(a0[x]) == bits(a1[x]));
+  }
+}
+
+RC_GTEST_PROP(RowKernels, Sse2BorderWeightRowGivesTheScalarBits, ()) {
+  const double w_video = *rc::gen::inRange(0, 1001) / 1000.0;
+  const int width = *rc::gen::inRange(1, 2000), height = *rc::gen::inRange(1, 2000);
+  const hd::render::BorderWeight border(w_video, width, height);
+  const int n = *rc::gen::inRange(0, 40);
+  std::vector<float> u(n), v(n), a(n);
+  for (int x = 0; x < n; ++x) {
+    // Anywhere in the frame, and often on its edges and centre lines (the case boundaries).
+    u[x] = *rc::gen::element(0.0f, static_cast<float>(width), 0.5f * static_cast<float>(width),
+                             static_cast<float>(*rc::gen::inRange(0, 1 << 16)) * width / 65536.0f);
+    v[x] = *rc::gen::element(0.0f, static_cast<float>(height), 0.5f * static_cast<float>(height),
+                             static_cast<float>(*rc::gen::inRange(0, 1 << 16)) * height / 65536.0f);
+    a[x] = *rc::gen::element(0.0f, 0.5f, 1.0f);
+  }
+  std::vector<float> a0 = a, a1 = a;
+  border.apply_row_scalar(n, u.data(), v.data(), a0.data());
+  border.apply_row(n, u.data(), v.data(), a1.data());
+  for (int x = 0; x < n; ++x) {
+    RC_ASSERT(bits(a0[x]) == bits(a1[x]));
+    if (a[x] == 0.0f) RC_ASSERT(a1[x] == 0.0f);  // no video there: stays none
   }
 }
 
