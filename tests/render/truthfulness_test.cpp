@@ -235,7 +235,7 @@ class Truthfulness : public ::testing::Test {
 };
 
 TEST_F(Truthfulness, PlaneAtDIsShownExactlyFromAnyEyePose) {
-  // Eye poses spread over the workspace: 0.5 m across, 0.4 m in depth, turned up to ~11 deg.
+  // Eye poses spread over the workspace: 0.5 m across, 0.4 m in depth, turned up to ~6 deg.
   std::vector<Pose> poses;
   for (double tx : {-0.25, 0.0, 0.25})
     for (double ty : {-0.15, 0.15})
