@@ -217,17 +217,19 @@ Eigen::Vector3d read_unit(const YamlFields& p, std::string_view key, const Eigen
 void read_effect(const YamlFields& item, SceneEffects& fx) {
   // An item is either a bare name ("- lens_distortion") or a one-key mapping to its parameters.
   std::string name;
-  YamlFields params = item;
   if (item.is_scalar()) {
     name = item.as_string();
-    params = YamlFields(YAML::Node(YAML::NodeType::Null), item.file(), item.path());
-  } else if (item.node().IsMap() && item.node().size() == 1) {
-    name = item.node().begin()->first.as<std::string>();
-    params = item.at(name);
-    if (!params.is_map()) params.fail("expected the effect's parameters as a mapping");
+  } else if (item.node().IsMap() && item.node().size() == 1 &&
+             item.node().begin()->first.IsScalar()) {
+    name = item.node().begin()->first.Scalar();
   } else {
     item.fail("expected an effect name, or one effect name mapped to its parameters");
   }
+  // A bare name has no parameters: an empty mapping (its errors carry the item's line).
+  const YamlFields params =
+      item.is_scalar() ? YamlFields(YAML::Node(YAML::NodeType::Null), item.file(), item.path())
+                       : item.at(name);
+  if (!params.is_map()) params.fail("expected the effect's parameters as a mapping");
   const auto index = std::find(kEffectNames.begin(), kEffectNames.end(), name);
   if (index == kEffectNames.end()) {
     std::string why = "unknown effect '" + name + "'";

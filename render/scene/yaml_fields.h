@@ -57,6 +57,12 @@ std::string closest_match(std::string_view word, const std::vector<std::string>&
 class YamlFields {
  public:
   YamlFields(YAML::Node node, std::string file, std::string path = "");
+  YamlFields(const YamlFields&) = default;
+  YamlFields(YamlFields&&) = default;
+  // yaml-cpp's Node::operator= writes into the node it refers to (changing the parsed document),
+  // so a YamlFields is never reassigned.
+  YamlFields& operator=(const YamlFields&) = delete;
+  YamlFields& operator=(YamlFields&&) = delete;
 
   const YAML::Node& node() const { return node_; }
   const std::string& file() const { return file_; }

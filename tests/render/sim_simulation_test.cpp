@@ -96,7 +96,7 @@ TEST(Simulation, RenderedBlockMovesWithItsKeyframes) {
   drivers::Frame f0, f7;
   sim.render_frame(0, 0, f0);
   sim.render_frame(0, 210, f7);
-  EXPECT_EQ(f7.host_timestamp_ns, 210 * 33'333'333);  // 30 Hz grid
+  EXPECT_EQ(f7.host_timestamp_ns, int64_t{210} * 33'333'333);  // 30 Hz grid
   const core::Pinhole& k = sim.scene().cameras[0].intrinsics;
   const core::Pose& P = sim.scene().cameras[0].T_world_cam;
   const double u0 = k.project(P.to_camera({-0.3, 0.36, 1.3})).x();
