@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job: installs what is needed, builds, and runs the station headless on the default
-# simulated scene (mock cameras rendering a built-in workspace, scripted head motion away from
-# camera 0 toward camera 1 and back). Outputs land in out/ (see README.md "What the demo leaves").
+# simulated scene (scenes/default.yaml: a pick-and-place seen by two simulated cameras, the head
+# moving away from camera 0 and back over 20 s, so the view goes video -> hybrid -> synthetic ->
+# hybrid -> video). Outputs land in out/demo/ (README.md "What the demo leaves").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -10,8 +11,8 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build -j"$(nproc)" --target hybrid-station hybrid-geom hybrid-fig3
 mkdir -p out
 
-echo "== station: 600 frames at 90 Hz, stereo, CPU compositor, headless =="
-./build/bin/hybrid-station run --headless --frames 600 --rate 90 --out out/demo
+echo "== station: scenes/default.yaml, 20 s at 90 Hz, stereo, CPU compositor, headless =="
+./build/bin/hybrid-station run --scene scenes/default.yaml --headless --rate 90 --out out/demo
 
 echo "== geometry what-if (hybrid-geom) on scenes/geom-example.json =="
 ./build/bin/hybrid-geom --indent 1 scenes/geom-example.json | tee out/geom-example.result.json
@@ -19,4 +20,5 @@ echo "== geometry what-if (hybrid-geom) on scenes/geom-example.json =="
 echo "== the paper's Fig. 3 =="
 ./build/bin/hybrid-fig3 --out out/fig3.png
 
-echo "demo outputs: out/demo/{latency.png,latency.csv,frames.csv,frame_*.png} out/fig3.png out/geom-example.result.json"
+echo "demo outputs: out/demo/{contact_sheet.png,trace.png,latency.png,latency.csv,frames.csv,summary.json}" \
+  "out/fig3.png out/geom-example.result.json"

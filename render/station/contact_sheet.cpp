@@ -14,20 +14,22 @@
 
 namespace hd::station {
 
-ThumbnailSet::ThumbnailSet(std::size_t capacity, int tile_width_px, uint64_t initial_stride)
+ThumbnailSet::ThumbnailSet(std::size_t capacity, int tile_width_px, int image_width_px,
+                           int image_height_px, uint64_t initial_stride)
     : capacity_(std::max<std::size_t>(capacity, 4)),
       tile_w_(std::max(tile_width_px, 16)),
+      tile_h_(std::max(1, static_cast<int>(std::lround(static_cast<double>(tile_w_) *
+                                                       std::max(image_height_px, 1) /
+                                                       std::max(image_width_px, 1))))),
       stride_(std::max<uint64_t>(initial_stride, 1)),
       tiles_(capacity_),
-      metas_(capacity_) {}
+      metas_(capacity_) {
+  for (cv::Mat& t : tiles_) t = cv::Mat(tile_h_, tile_w_, CV_8UC3, cv::Scalar::all(0));
+  rgba_scaled_ = cv::Mat(tile_h_, tile_w_, CV_8UC4, cv::Scalar::all(0));
+}
 
 void ThumbnailSet::add(const render::ImageRgba8& image, const FrameMeta& meta) {
   if (image.empty()) return;
-  if (tile_h_ == 0) {
-    tile_h_ = std::max(1, static_cast<int>(std::lround(static_cast<double>(tile_w_) * image.height /
-                                                       image.width)));
-    for (cv::Mat& t : tiles_) t.create(tile_h_, tile_w_, CV_8UC3);
-  }
   if (count_ == capacity_) decimate();
   if (meta.frame % stride() != 0) return;  // offered before the stride doubled
   const cv::Mat view(image.height, image.width, CV_8UC4, const_cast<uint8_t*>(image.data.data()),

@@ -28,12 +28,15 @@ struct FrameMeta {
 /// add() and pick() run on one thread (the recorder's); stride() may be read from any thread.
 class ThumbnailSet {
  public:
-  ThumbnailSet(std::size_t capacity, int tile_width_px, uint64_t initial_stride);
+  /// Every slot is allocated and written here (tile height from the pictures' aspect ratio), so
+  /// filling them later does not grow the process's resident memory.
+  ThumbnailSet(std::size_t capacity, int tile_width_px, int image_width_px, int image_height_px,
+               uint64_t initial_stride);
 
   uint64_t stride() const { return stride_.load(std::memory_order_relaxed); }
   /// Whether the render thread should hand this frame over.
   bool wants(uint64_t frame) const { return frame % stride() == 0; }
-  /// Downscales `image` into the next slot (sized from the first image's aspect ratio).
+  /// Downscales `image` (of the size given at construction) into the next slot.
   void add(const render::ImageRgba8& image, const FrameMeta& meta);
 
   std::size_t size() const { return count_; }
@@ -51,7 +54,7 @@ class ThumbnailSet {
   void decimate();
 
   std::size_t capacity_;
-  int tile_w_, tile_h_ = 0;
+  int tile_w_, tile_h_;
   std::atomic<uint64_t> stride_;
   std::vector<cv::Mat> tiles_;
   std::vector<FrameMeta> metas_;

@@ -85,6 +85,7 @@ int run(const RunOptions& o) {
   StationParts& p = *parts;
   p.report.print(stdout);
   if (p.report.fatal()) {
+    std::fflush(stdout);
     std::fprintf(stderr, "hybrid-station run: cannot start: %s\n",
                  p.report.missing_summary().c_str());
     return 3;
@@ -146,7 +147,7 @@ int run(const RunOptions& o) {
   if (p.updater) frame.set_model_updater(p.updater.get());
   FrameLog log(log_rows);
   const int width = p.frame_config.rig.output_width();
-  ThumbnailSet thumbs(96, std::min(width, 320),
+  ThumbnailSet thumbs(96, std::min(width, 320), width, p.frame_config.rig.output_height(),
                       std::max<uint64_t>(1, static_cast<uint64_t>(expected_frames / 96.0)));
   FrameRecorderOptions ro;
   ro.video_path = o.video_path;
@@ -263,9 +264,11 @@ int run_station(const RunOptions& o) {
   try {
     rc = run(o);
   } catch (const render::ConfigError& e) {
+    std::fflush(stdout);
     std::fprintf(stderr, "hybrid-station run: %s\n", e.what());
     rc = 2;
   } catch (const std::exception& e) {
+    std::fflush(stdout);
     std::fprintf(stderr, "hybrid-station run: %s\n", e.what());
     rc = 1;
   }

@@ -77,7 +77,7 @@ render::ImageRgba8 solid(int w, int h, uint8_t r, uint8_t g, uint8_t b) {
 }
 
 TEST(ThumbnailSet, PicksTheFirstFrameOfEveryPhaseAndSpreadsTheRest) {
-  ThumbnailSet t(64, 40, 1);
+  ThumbnailSet t(64, 40, 80, 40, 1);
   const render::ImageRgba8 img = solid(80, 40, 10, 20, 30);
   for (uint64_t i = 0; i < 100; ++i) {
     const Variant v = phase(i);
@@ -109,7 +109,7 @@ TEST(ThumbnailSet, PicksTheFirstFrameOfEveryPhaseAndSpreadsTheRest) {
 }
 
 TEST(ThumbnailSet, FlickerIsThinnedToTheRoomItHas) {
-  ThumbnailSet t(128, 16, 1);
+  ThumbnailSet t(128, 16, 32, 16, 1);
   const render::ImageRgba8 img = solid(32, 16, 0, 0, 0);
   for (uint64_t i = 0; i < 100; ++i) {
     const Variant v = i % 2 ? Variant::kVideo : Variant::kSynthetic;
@@ -195,7 +195,7 @@ TEST(FramesCsv, UnwritableDirectoryIsNamed) {
 
 TEST(FrameRecorder, VideoAndPngFramesReadBackWithTheirContent) {
   const fs::path d = temp_dir();
-  ThumbnailSet thumbs(16, 32, 4);
+  ThumbnailSet thumbs(16, 32, 64, 48, 4);
   FrameRecorderOptions o;
   o.video_path = (d / "run.avi").string();
   o.video_fps = 30.0;
