@@ -43,13 +43,14 @@ trap 'kill "$pid" 2>/dev/null || true' INT TERM
 echo "t_s,vmrss_kb" > "$rss_csv.tmp"
 start=$(date +%s.%N)
 while kill -0 "$pid" 2>/dev/null; do
+  # Sample every 10 s from t = 10 s (a sample at 0 s would be the process before it set up), but
+  # notice the end of the run within a second.
+  for _ in $(seq 10); do kill -0 "$pid" 2>/dev/null || break; sleep 1; done
   rss=$(awk '/^VmRSS:/ {print $2}' "/proc/$pid/status" 2>/dev/null || true)
   if [ -n "$rss" ]; then
     now=$(date +%s.%N)
     printf '%.1f,%s\n' "$(python3 -c "print($now - $start)")" "$rss" >> "$rss_csv.tmp"
   fi
-  # Sleep 10 s, but notice the end of the run within a second.
-  for _ in $(seq 10); do kill -0 "$pid" 2>/dev/null || break; sleep 1; done
 done
 rc=0
 wait "$pid" || rc=$?
