@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "calib/camera_factory.h"
@@ -119,7 +120,13 @@ int run(const RunOptions& o) {
     wo.height = p.frame_config.rig.output_height();
     wo.headless = o.headless;
     wo.monitor = windowed ? p.monitor : -1;
-    auto glc = std::make_unique<render::GlCompositor>(wo);
+    std::unique_ptr<render::GlCompositor> glc;
+    try {
+      glc = std::make_unique<render::GlCompositor>(wo);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(std::string(e.what()) +
+                               (windowed ? " (without a display, pass --headless)" : ""));
+    }
     compositor_name = "OpenGL (" + glc->renderer() + ", " + glc->version() + ")";
     gl = glc.get();
     compositor = std::move(glc);
