@@ -358,7 +358,7 @@ void YamlFields::finish() const {
   if (!node_.IsMap()) return;  // null: nothing to check
   std::vector<std::string> seen;
   for (auto it = node_.begin(); it != node_.end(); ++it) {
-    const YAML::Node& k = it->first;
+    const YAML::Node k = it->first;  // a copy: it-> yields a temporary pair
     const std::string name = k.IsScalar() ? k.Scalar() : std::string("<non-scalar key>");
     const int line = one_based(k.Mark().line);
     const int col = one_based(k.Mark().column);
