@@ -38,7 +38,7 @@ TransitionState Transition::update(double m, double dt_s) {
     } else if (dt_s > 0.0) {  // false for NaN and negative dt: hold
       const double alpha = 1.0 - std::exp(-dt_s / tau);
       w_ += (target - w_) * alpha;
-      if (std::abs(target - w_) < 1e-6) w_ = target;
+      if (std::abs(target - w_) < kTransitionSnap) w_ = target;
     }
     started_ = true;
   }

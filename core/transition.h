@@ -20,10 +20,17 @@ struct TransitionState {
   double kappa;    ///< 1 - w_video, the paper's border width
 };
 
+/// Below half an 8-bit level the global blend cannot change an output value: out = round(s + a(v -
+/// s)) with |a (v - s)| < 255 / 512 < 0.5 rounds to s. In per-pixel mode the border band it drops
+/// is kappa = 1/512 of the frame (1.25 px of 640). With the old 1e-6 a 0.15 s lag stayed "hybrid"
+/// ~2 s after the picture was pure.
+inline constexpr double kTransitionSnap = 1.0 / 512.0;
+
 /// Per-frame transition. Abrupt: w_video is 1 or 0 with hysteresis, never smoothed (an abrupt
 /// switch is the point of that mode). Blend modes: target = video_weight(m, m_t, eps), followed by
 /// a first-order lag w += (target - w)(1 - exp(-dt/tau)) -- the paper's "time-based blending";
-/// the lag snaps to the target within 1e-6 so the variant really reaches video or synthetic.
+/// the lag snaps to the target within kTransitionSnap so the variant really reaches video or
+/// synthetic as soon as the picture is (no frame marked "hybrid" that shows one source only).
 /// NaN or +inf m counts as +inf (synthetic). NaN or negative dt holds the weight. The first
 /// update after construction/reset takes the target directly. No allocation, no clock.
 class Transition {

@@ -160,7 +160,19 @@ TEST(Transition, FirstOrderSmoothingMatchesTheExponential) {
   }
   EXPECT_EQ(t.update(kInf, NAN).w_video, w);   // NaN dt holds
   EXPECT_EQ(t.update(kInf, -1.0).w_video, w);  // negative dt holds
-  // Eventually it snaps to exactly synthetic.
+  // It snaps to exactly synthetic on the first step that lands within kTransitionSnap of the
+  // target: exp(-n dt / tau) < 1/512 first for n = ceil(15 ln 512) = 94 steps after the change.
+  {
+    Transition u({TransitionMode::kPerPixel, 40, 10, 5, tau});
+    u.update(0, 0.01);
+    TransitionState step{};
+    for (int n = 1; n <= 93; ++n) step = u.update(kInf, 0.01);
+    EXPECT_NEAR(step.w_video, std::exp(-93 * 0.01 / tau), 1e-12);
+    EXPECT_EQ(step.variant, Variant::kHybrid);
+    step = u.update(kInf, 0.01);
+    EXPECT_EQ(step.w_video, 0.0);
+    EXPECT_EQ(step.variant, Variant::kSynthetic);
+  }
   TransitionState s{};
   for (int n = 0; n < 1000; ++n) s = t.update(kInf, 0.01);
   EXPECT_EQ(s.w_video, 0.0);
