@@ -37,6 +37,13 @@ void fixed_point_positions(int n, const float* u, const float* v, int* X, int* Y
   }
 }
 
+// The video is sampled in tiles of kRowGroup rows by kTilePx columns (after the positions of
+// all kRowGroup rows are known). A warp that turns the frame walks it across its rows: one whole
+// eye row touches a diagonal strip of texel cache lines too large for L1, and the next eye row
+// reuses most of those lines; a tile's strips stay in L1 between its rows.
+constexpr int kRowGroup = 8;
+constexpr int kTilePx = 64;
+
 const SyntheticScene& empty_scene() {
   static const SyntheticScene scene;
   return scene;
@@ -78,9 +85,10 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   if (inv_depth_.size() != n) {  // first frame, or a new viewport size
     inv_depth_.assign(n, 0.0f);
     synth_rgba_.assign(4 * n, 0);
-    scratch_.assign(2 * 3 * static_cast<std::size_t>(req.viewport.width), 0.0f);
-    video_row_.assign(2 * static_cast<std::size_t>(req.viewport.width), 0u);
-    fixed_.assign(2 * 2 * static_cast<std::size_t>(req.viewport.width), 0);
+    const std::size_t group = kRowGroup * static_cast<std::size_t>(req.viewport.width);
+    scratch_.assign(2 * 3 * group, 0.0f);
+    video_row_.assign(2 * group, 0u);
+    fixed_.assign(2 * 2 * group, 0);
   }
   req_ = &req;
   out_ = &out;
@@ -148,12 +156,16 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
 
   const Eigen::Vector3d& q = warp_.inv_depth;
 
-  // Per-thread row scratch: where each pixel samples the frame, with what weight, and the texel.
+  // Per-thread scratch for kRowGroup rows: where each pixel samples the frame, with what weight,
+  // the 1/256 px texel positions and the texel.
   const std::size_t band = row_begin == 0 ? 0 : 1;
-  float* su = scratch_.data() + band * 3 * static_cast<std::size_t>(W);
-  float* sv = su + W;
-  float* sa = sv + W;
-  uint32_t* vid = video_row_.data() + band * static_cast<std::size_t>(W);
+  const std::size_t group = kRowGroup * static_cast<std::size_t>(W);
+  float* su_group = scratch_.data() + band * 3 * group;
+  float* sv_group = su_group + group;
+  float* sa_group = sv_group + group;
+  uint32_t* vid_group = video_row_.data() + band * group;
+  int* fx_group = fixed_.data() + band * 2 * group;
+  int* fy_group = fx_group + group;
   const float wv = static_cast<float>(w_video);
 
   RowBlend blend;
@@ -165,7 +177,7 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
   blend.checker = checker;
   blend.checker_step = checker_step;
   blend.checker_cell_px = cell;
-  if (!any_video) std::fill(vid, vid + W, 0u);
+  if (!any_video) std::fill(vid_group, vid_group + group, 0u);
 
   RowWarp rw;
   rw.h00 = H(0, 0);
@@ -177,84 +189,110 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
   rw.height = vhd;
   rw.weight = wv;
 
-  for (int y = row_begin; y < row_end; ++y) {
-    const uint8_t* srow = synth_rgba_.data() + static_cast<long>(y) * W * 4;
-    const float* drow = inv_depth_.data() + static_cast<long>(y) * W;
-    uint8_t* orow = out_->pixel(req.viewport.x, req.viewport.y + y);
-    if (any_video) {
-      // Where each pixel centre of the row meets the frame, and whether it sees it at all.
-      const double pv = y + 0.5;
-      rw.bx = H(0, 1) * pv + H(0, 2);
-      rw.by = H(1, 1) * pv + H(1, 2);
-      rw.bw = H(2, 1) * pv + H(2, 2);
-      rw.bz = q(1) * pv + q(2);
-      warp_row_sse2(rw, W, su, sv, sa);
-      if (per_pixel) border.apply_row(W, su, sv, sa);
-      // The texel each pixel with a > 0 blends in (elsewhere 0: a = 0 ignores it).
-      if (nearest) {
-        for (int x = 0; x < W; ++x) {
-          if (!(sa[x] > 0.0f)) {
-            vid[x] = 0;
-            continue;
-          }
-          const int xi = std::min(static_cast<int>(su[x]), vw - 1);
-          const int yi = std::min(static_cast<int>(sv[x]), vh - 1);
-          std::memcpy(vid + x, vdata + static_cast<long>(yi) * vstride + 4 * xi, 4);
-        }
+  // The texel pixel x of a row with positions (su, sv, weight sa, fixed point X, Y) blends in
+  // (0 where sa = 0: a = 0 ignores it).
+  const auto sample_nearest = [&](const float* su, const float* sv, const float* sa, uint32_t* vid,
+                                  int x_begin, int x_end) {
+    for (int x = x_begin; x < x_end; ++x) {
+      if (!(sa[x] > 0.0f)) {
+        vid[x] = 0;
+        continue;
+      }
+      const int xi = std::min(static_cast<int>(su[x]), vw - 1);
+      const int yi = std::min(static_cast<int>(sv[x]), vh - 1);
+      std::memcpy(vid + x, vdata + static_cast<long>(yi) * vstride + 4 * xi, 4);
+    }
+  };
+  // 8-bit fixed-point bilinear between texel centres, clamped to the edge texels.
+  const auto sample_bilinear = [&](const int* fixed_x, const int* fixed_y, const float* sa,
+                                   uint32_t* vid, int x_begin, int x_end) {
+    for (int x = x_begin; x < x_end; ++x) {
+      if (!(sa[x] > 0.0f)) {
+        vid[x] = 0;
+        continue;
+      }
+      const int X = fixed_x[x];
+      const int Y = fixed_y[x];
+      const int x0 = X >> 8, fx = X & 255;  // arithmetic shift: floor, also below 0
+      const int y0 = Y >> 8, fy = Y & 255;
+      if (static_cast<unsigned>(x0) < static_cast<unsigned>(vw - 1) &&
+          static_cast<unsigned>(y0) < static_cast<unsigned>(vh - 1)) {
+        // All four texels inside (nearly every pixel): no clamping.
+        vid[x] = bilinear_rgba(vdata + static_cast<long>(y0) * vstride + 4 * x0, vstride, fx, fy);
       } else {
-        // 8-bit fixed-point bilinear between texel centres, clamped to the edge texels.
-        // Rounding (not truncating) to 1/256 px keeps an exact texel centre exact; u, w >= 0,
-        // so the +256 offset keeps the truncated value positive. Fixed-point positions four at
-        // a time (the same float operations as one at a time), texels one at a time.
-        int* fixed_x = fixed_.data() + band * 2 * static_cast<std::size_t>(W);
-        int* fixed_y = fixed_x + W;
-        fixed_point_positions(W, su, sv, fixed_x, fixed_y);
-        for (int x = 0; x < W; ++x) {
-          if (!(sa[x] > 0.0f)) {
-            vid[x] = 0;
-            continue;
-          }
-          const int X = fixed_x[x];
-          const int Y = fixed_y[x];
-          const int x0 = X >> 8, fx = X & 255;  // arithmetic shift: floor, also below 0
-          const int y0 = Y >> 8, fy = Y & 255;
-          if (static_cast<unsigned>(x0) < static_cast<unsigned>(vw - 1) &&
-              static_cast<unsigned>(y0) < static_cast<unsigned>(vh - 1)) {
-            // All four texels inside (nearly every pixel): no clamping.
-            vid[x] =
-                bilinear_rgba(vdata + static_cast<long>(y0) * vstride + 4 * x0, vstride, fx, fy);
+        const int xa = std::max(x0, 0), xb = std::min(x0 + 1, vw - 1);
+        const int ya = std::max(y0, 0), yb = std::min(y0 + 1, vh - 1);
+        const uint8_t* r0 = vdata + static_cast<long>(ya) * vstride;
+        const uint8_t* r1 = vdata + static_cast<long>(yb) * vstride;
+        uint32_t c00, c10, c01, c11;
+        std::memcpy(&c00, r0 + 4 * xa, 4);
+        std::memcpy(&c10, r0 + 4 * xb, 4);
+        std::memcpy(&c01, r1 + 4 * xa, 4);
+        std::memcpy(&c11, r1 + 4 * xb, 4);
+        vid[x] = lerp_rgba(lerp_rgba(c00, c10, fx), lerp_rgba(c01, c11, fx), fy);
+      }
+    }
+  };
+
+  for (int y_group = row_begin; y_group < row_end; y_group += kRowGroup) {
+    const int rows = std::min(kRowGroup, row_end - y_group);
+    if (any_video) {
+      // Where each pixel centre of the rows meets the frame, and whether it sees it at all.
+      for (int r = 0; r < rows; ++r) {
+        const double pv = y_group + r + 0.5;
+        const std::size_t off = static_cast<std::size_t>(r) * W;
+        rw.bx = H(0, 1) * pv + H(0, 2);
+        rw.by = H(1, 1) * pv + H(1, 2);
+        rw.bw = H(2, 1) * pv + H(2, 2);
+        rw.bz = q(1) * pv + q(2);
+        warp_row_sse2(rw, W, su_group + off, sv_group + off, sa_group + off);
+        if (per_pixel) border.apply_row(W, su_group + off, sv_group + off, sa_group + off);
+        // Rounding (not truncating) to 1/256 px keeps an exact texel centre exact; u, v >= 0,
+        // so the +256 offset keeps the truncated value positive.
+        if (!nearest) {
+          fixed_point_positions(W, su_group + off, sv_group + off, fx_group + off, fy_group + off);
+        }
+      }
+      for (int x_begin = 0; x_begin < W; x_begin += kTilePx) {
+        const int x_end = std::min(W, x_begin + kTilePx);
+        for (int r = 0; r < rows; ++r) {
+          const std::size_t off = static_cast<std::size_t>(r) * W;
+          if (nearest) {
+            sample_nearest(su_group + off, sv_group + off, sa_group + off, vid_group + off, x_begin,
+                           x_end);
           } else {
-            const int xa = std::max(x0, 0), xb = std::min(x0 + 1, vw - 1);
-            const int ya = std::max(y0, 0), yb = std::min(y0 + 1, vh - 1);
-            const uint8_t* r0 = vdata + static_cast<long>(ya) * vstride;
-            const uint8_t* r1 = vdata + static_cast<long>(yb) * vstride;
-            uint32_t c00, c10, c01, c11;
-            std::memcpy(&c00, r0 + 4 * xa, 4);
-            std::memcpy(&c10, r0 + 4 * xb, 4);
-            std::memcpy(&c01, r1 + 4 * xa, 4);
-            std::memcpy(&c11, r1 + 4 * xb, 4);
-            vid[x] = lerp_rgba(lerp_rgba(c00, c10, fx), lerp_rgba(c01, c11, fx), fy);
+            sample_bilinear(fx_group + off, fy_group + off, sa_group + off, vid_group + off,
+                            x_begin, x_end);
           }
         }
       }
     }
-    // out = s + a (v - s) with the marked model colour s, four pixels at a time.
-    blend.checker_row = y / cell;
-    blend_row_sse2(blend, 0, W, srow, drow, any_video ? sa : nullptr, vid, orow);
-    // The variant's coloured frame is painted last, over video and model alike.
-    if (mark.style == core::MarkingStyle::kFrame && mark.frame_width_px > 0) {
-      const core::Rgb& fc = mark.frame_colour(req.transition.variant);
-      const int fw = mark.frame_width_px;
-      const int H_vp = req.viewport.height;
-      const bool full_row = y < fw || y >= H_vp - fw;
-      for (int x = 0; x < W; ++x) {
-        if (full_row || x < fw || x >= W - fw) {
-          uint8_t* o = orow + 4 * x;
-          o[0] = fc.r;
-          o[1] = fc.g;
-          o[2] = fc.b;
+    for (int r = 0; r < rows; ++r) {
+      const int y = y_group + r;
+      const std::size_t off = any_video ? static_cast<std::size_t>(r) * W : 0;
+      const float* sa = sa_group + off;
+      const uint32_t* vid = vid_group + off;
+      const uint8_t* srow = synth_rgba_.data() + static_cast<long>(y) * W * 4;
+      const float* drow = inv_depth_.data() + static_cast<long>(y) * W;
+      uint8_t* orow = out_->pixel(req.viewport.x, req.viewport.y + y);
+      // out = s + a (v - s) with the marked model colour s, four pixels at a time.
+      blend.checker_row = y / cell;
+      blend_row_sse2(blend, 0, W, srow, drow, any_video ? sa : nullptr, vid, orow);
+      // The variant's coloured frame is painted last, over video and model alike.
+      if (mark.style == core::MarkingStyle::kFrame && mark.frame_width_px > 0) {
+        const core::Rgb& fc = mark.frame_colour(req.transition.variant);
+        const int fw = mark.frame_width_px;
+        const int H_vp = req.viewport.height;
+        const bool full_row = y < fw || y >= H_vp - fw;
+        for (int x = 0; x < W; ++x) {
+          if (full_row || x < fw || x >= W - fw) {
+            uint8_t* o = orow + 4 * x;
+            o[0] = fc.r;
+            o[1] = fc.g;
+            o[2] = fc.b;
+          }
+          if (!full_row && x == fw - 1 && W - fw > x + 1) x = W - fw - 1;  // skip the middle
         }
-        if (!full_row && x == fw - 1 && W - fw > x + 1) x = W - fw - 1;  // skip the middle
       }
     }
   }

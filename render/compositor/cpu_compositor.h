@@ -41,9 +41,9 @@ class CpuCompositor final : public Compositor {
   MeshRasterizer rasterizer_;
   std::vector<uint8_t> synth_rgba_;  ///< viewport-sized synthetic colour
   std::vector<float> inv_depth_;     ///< viewport-sized depth (1/z, 0 = empty)
-  std::vector<float> scratch_;       ///< per band: one row of sample u, v and video weight
-  std::vector<uint32_t> video_row_;  ///< per band: one row of sampled video texels
-  std::vector<int> fixed_;           ///< per band: one row of 1/256 px texel positions X, Y
+  std::vector<float> scratch_;       ///< per band: kRowGroup rows of sample u, v, video weight
+  std::vector<uint32_t> video_row_;  ///< per band: kRowGroup rows of sampled video texels
+  std::vector<int> fixed_;           ///< per band: kRowGroup rows of 1/256 px positions X, Y
   CompositorStats stats_;
 
   const CompositeRequest* req_ = nullptr;  ///< valid during draw only
