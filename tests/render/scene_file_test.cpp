@@ -12,8 +12,7 @@
 namespace hd::render {
 namespace {
 
-const std::filesystem::path kScenes =
-    std::filesystem::path(__FILE__).parent_path() / "../../scenes";
+const std::filesystem::path kScenes = std::filesystem::path(HD_SOURCE_DIR) / "scenes";
 
 // A minimal valid scene; the broken cases below edit one line of it (line numbers matter).
 const std::string kMinimal =

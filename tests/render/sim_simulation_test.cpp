@@ -14,8 +14,7 @@
 namespace hd::render {
 namespace {
 
-const std::filesystem::path kScenes =
-    std::filesystem::path(__FILE__).parent_path() / "../../scenes";
+const std::filesystem::path kScenes = std::filesystem::path(HD_SOURCE_DIR) / "scenes";
 
 Scene small_default() {
   // The default scene at a tenth of the resolution keeps the test fast under sanitizers.
