@@ -245,7 +245,7 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
         rw.by = H(1, 1) * pv + H(1, 2);
         rw.bw = H(2, 1) * pv + H(2, 2);
         rw.bz = q(1) * pv + q(2);
-        warp_row_sse2(rw, W, su_group + off, sv_group + off, sa_group + off);
+        warp_row(rw, W, su_group + off, sv_group + off, sa_group + off);
         if (per_pixel) border.apply_row(W, su_group + off, sv_group + off, sa_group + off);
         // Rounding (not truncating) to 1/256 px keeps an exact texel centre exact; u, v >= 0,
         // so the +256 offset keeps the truncated value positive.

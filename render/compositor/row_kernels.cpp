@@ -6,6 +6,9 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 // Both versions must stay bit-identical (tests/render/compositor_row_kernels_test.cpp): the SSE2
 // loops do the very same IEEE operations in the same order, lane by lane. A contracted
@@ -106,6 +109,68 @@ void warp_row_sse2(const RowWarp& w, int n, float* u, float* v, float* a) {
   for (; x < n; ++x) warp_pixel(w, x, u, v, a);
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+
+// Built for AVX whatever the file's flags (no FMA, so nothing is contracted); called only
+// where the CPU has it. Four pixels per vector: half the SSE2 loop's instructions (it was
+// instruction-bound: ~22 % of a video frame), the divisions cost the same per pixel.
+__attribute__((target("avx"))) static void warp_row_avx_impl(const RowWarp& w, int n, float* u,
+                                                             float* v, float* a) {
+  const __m256d h00 = _mm256_set1_pd(w.h00), h10 = _mm256_set1_pd(w.h10);
+  const __m256d h20 = _mm256_set1_pd(w.h20), q0 = _mm256_set1_pd(w.q0);
+  const __m256d bx = _mm256_set1_pd(w.bx), by = _mm256_set1_pd(w.by);
+  const __m256d bw = _mm256_set1_pd(w.bw), bz = _mm256_set1_pd(w.bz), one = _mm256_set1_pd(1.0);
+  const __m256d zero = _mm256_setzero_pd(), inv_near = _mm256_set1_pd(w.inv_near);
+  const __m256d width = _mm256_set1_pd(w.width), height = _mm256_set1_pd(w.height);
+  const __m128 weight = _mm_set1_ps(w.weight);
+  // x + 0.5 exactly: stepping by 4.0 stays exact far beyond any row length.
+  __m256d px = _mm256_setr_pd(0.5, 1.5, 2.5, 3.5);
+  const __m256d step = _mm256_set1_pd(4.0);
+  int x = 0;
+  for (; x + 4 <= n; x += 4, px = _mm256_add_pd(px, step)) {
+    const __m256d iz = _mm256_add_pd(_mm256_mul_pd(q0, px), bz);
+    const __m256d s = _mm256_div_pd(one, _mm256_add_pd(_mm256_mul_pd(h20, px), bw));
+    const __m256d uu = _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(h00, px), bx), s);
+    const __m256d vv = _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(h10, px), by), s);
+    // Ordered predicates: false for NaN, as the scalar comparisons.
+    __m256d in =
+        _mm256_and_pd(_mm256_cmp_pd(iz, zero, _CMP_GT_OQ), _mm256_cmp_pd(iz, inv_near, _CMP_LE_OQ));
+    in = _mm256_and_pd(in, _mm256_and_pd(_mm256_cmp_pd(uu, zero, _CMP_GE_OQ),
+                                         _mm256_cmp_pd(uu, width, _CMP_LE_OQ)));
+    in = _mm256_and_pd(in, _mm256_and_pd(_mm256_cmp_pd(vv, zero, _CMP_GE_OQ),
+                                         _mm256_cmp_pd(vv, height, _CMP_LE_OQ)));
+    // Each 64-bit mask lane is all ones or all zeros: its low halves are the float mask.
+    const __m256 m8 = _mm256_castpd_ps(in);
+    const __m128 m = _mm_shuffle_ps(_mm256_castps256_ps128(m8), _mm256_extractf128_ps(m8, 1),
+                                    _MM_SHUFFLE(2, 0, 2, 0));
+    _mm_storeu_ps(u + x, _mm_and_ps(m, _mm256_cvtpd_ps(uu)));  // round to nearest
+    _mm_storeu_ps(v + x, _mm_and_ps(m, _mm256_cvtpd_ps(vv)));
+    _mm_storeu_ps(a + x, _mm_and_ps(m, weight));
+  }
+  for (; x < n; ++x) warp_pixel(w, x, u, v, a);
+}
+
+void warp_row_avx(const RowWarp& w, int n, float* u, float* v, float* a) {
+  static const bool has_avx = __builtin_cpu_supports("avx");
+  if (has_avx) {
+    warp_row_avx_impl(w, n, u, v, a);
+  } else {
+    warp_row_sse2(w, n, u, v, a);
+  }
+}
+
+#else
+
+void warp_row_avx(const RowWarp& w, int n, float* u, float* v, float* a) {
+  warp_row_sse2(w, n, u, v, a);
+}
+
+#endif
+
+void warp_row(const RowWarp& w, int n, float* u, float* v, float* a) {
+  warp_row_avx(w, n, u, v, a);
+}
+
 void blend_row_sse2(const RowBlend& b, int x0, int n, const uint8_t* synth, const float* depth,
                     const float* a, const uint32_t* video, uint8_t* out) {
   const __m128i byte = _mm_set1_epi32(255), alpha = _mm_set1_epi32(static_cast<int>(0xFF000000u));
@@ -161,6 +226,14 @@ void blend_row_sse2(const RowBlend& b, int x0, int n, const uint8_t* synth, cons
 #else
 
 void warp_row_sse2(const RowWarp& w, int n, float* u, float* v, float* a) {
+  warp_row_scalar(w, n, u, v, a);
+}
+
+void warp_row_avx(const RowWarp& w, int n, float* u, float* v, float* a) {
+  warp_row_scalar(w, n, u, v, a);
+}
+
+void warp_row(const RowWarp& w, int n, float* u, float* v, float* a) {
   warp_row_scalar(w, n, u, v, a);
 }
 

@@ -24,6 +24,11 @@ struct RowWarp {
 /// iz = q0 px + bz, s = 1 / (h20 px + bw), u = (h00 px + bx) s, v = (h10 px + by) s.
 void warp_row_scalar(const RowWarp& w, int n, float* u, float* v, float* a);
 void warp_row_sse2(const RowWarp& w, int n, float* u, float* v, float* a);
+/// The same bits as warp_row_scalar, four doubles per vector with AVX (no FMA: the same IEEE
+/// operations); warp_row_sse2 where the CPU (checked at run time) or the compiler has no AVX.
+void warp_row_avx(const RowWarp& w, int n, float* u, float* v, float* a);
+/// warp_row_avx where the CPU has AVX, else warp_row_sse2 (the compositor's choice).
+void warp_row(const RowWarp& w, int n, float* u, float* v, float* a);
 
 /// What the synthetic part looks like in this row (CompositeRequest's marking styles).
 struct RowBlend {

@@ -49,12 +49,14 @@ RowWarp random_row_warp() {
   return w;
 }
 
-RC_GTEST_PROP(RowKernels, Sse2WarpRowGivesTheScalarBitsForAnyHomography, ()) {
+RC_GTEST_PROP(RowKernels, Sse2AndAvxWarpRowsGiveTheScalarBitsForAnyHomography, ()) {
   const RowWarp w = random_row_warp();
   const int n = *rc::gen::inRange(0, 300);
   std::vector<float> u0(n), v0(n), a0(n), u1(n, -1.0f), v1(n, -1.0f), a1(n, -1.0f);
+  std::vector<float> u2(n, -1.0f), v2(n, -1.0f), a2(n, -1.0f);
   hd::render::warp_row_scalar(w, n, u0.data(), v0.data(), a0.data());
   hd::render::warp_row_sse2(w, n, u1.data(), v1.data(), a1.data());
+  hd::render::warp_row_avx(w, n, u2.data(), v2.data(), a2.data());
   int inside = 0;
   for (int x = 0; x < n; ++x) inside += a0[x] > 0.0f ? 1 : 0;
   RC_CLASSIFY(inside > 0 && inside < n, "row crosses the frame's edge");
@@ -63,6 +65,9 @@ RC_GTEST_PROP(RowKernels, Sse2WarpRowGivesTheScalarBitsForAnyHomography, ()) {
     RC_ASSERT(bits(u0[x]) == bits(u1[x]));
     RC_ASSERT(bits(v0[x]) == bits(v1[x]));
     RC_ASSERT(bits(a0[x]) == bits(a1[x]));
+    RC_ASSERT(bits(u0[x]) == bits(u2[x]));
+    RC_ASSERT(bits(v0[x]) == bits(v2[x]));
+    RC_ASSERT(bits(a0[x]) == bits(a2[x]));
   }
 }
 
@@ -102,7 +107,8 @@ TEST(RowKernels, IdentityWarpSamplesAtThePixelCentresInsideTheFrameOnly) {
   w.height = 8.0;
   w.weight = 0.25f;
   const int n = 13;
-  for (auto kernel : {&hd::render::warp_row_scalar, &hd::render::warp_row_sse2}) {
+  for (auto kernel :
+       {&hd::render::warp_row_scalar, &hd::render::warp_row_sse2, &hd::render::warp_row_avx}) {
     std::vector<float> u(n, -1.0f), v(n, -1.0f), a(n, -1.0f);
     kernel(w, n, u.data(), v.data(), a.data());
     for (int x = 0; x < n; ++x) {
