@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Soak of the simulated station (a benchmark, not CI): builds, runs the default scene headless at
-# 90 Hz for --minutes N (default 60), samples the process's VmRSS every 10 s from
+# 90 Hz for --minutes N (default 60) with its motion looped (--loop: the head goes away from the
+# camera and back every 20 s for the whole run, so every lap exercises video, hybrid and
+# synthetic and the transitions between them), samples the process's VmRSS every 10 s from
 # /proc/<pid>/status into a CSV, and at the end prints RSS at start / end, the least-squares RSS
 # slope, and the missed-deadline rate from the run's summary.json.
 #
@@ -37,7 +39,7 @@ rss_csv="$out/rss.csv"
 
 echo "== soak: $scene, ${minutes} min at 90 Hz, headless; RSS every 10 s -> $rss_csv =="
 "./$build/bin/hybrid-station" run --scene "$scene" --headless --rate 90 --seconds "$seconds" \
-  --out "$out" "${extra[@]}" > "$out/run.log" 2>&1 &
+  --loop --out "$out" "${extra[@]}" > "$out/run.log" 2>&1 &
 pid=$!
 trap 'kill "$pid" 2>/dev/null || true' INT TERM
 echo "t_s,vmrss_kb" > "$rss_csv.tmp"
@@ -90,4 +92,13 @@ else:
 print(f"frames {s['frames']} in {s['seconds']:.1f} s; missed deadlines {s['missed_deadlines']} "
       f"({100*s['missed_deadline_rate']:.2f} %), skipped slots {s['skipped_slots']}; "
       f"render-thread allocations after warm-up {s['allocations_after_warmup']}")
+v = s["variant_frames"]
+print(f"variants: video {v['video']}, hybrid {v['hybrid']}, synthetic {v['synthetic']} frames; "
+      f"camera switches {s['camera_switches']}; model updates {s['model_updates']}")
+for c in s["cameras"]:
+    print(f"camera {c['name']}: new frames shown {c['frames_shown']}, lost by the device "
+          f"{c['frames_lost']}, rejected {c['frames_rejected']}")
+for k in ("motion_to_photon_display", "video_age", "model_age"):
+    l = s["latency"][k]
+    print(f"{k}: p50 {l['p50_ms']:.2f} ms, p99 {l['p99_ms']:.2f} ms, max {l['max_ms']:.2f} ms")
 PY

@@ -95,12 +95,28 @@ void MockCamera::run() {
     const int64_t behind = start_ns - epoch;
     start_ns = behind <= 0 ? epoch : epoch + (behind + period_ns - 1) / period_ns * period_ns;
   }
-  for (uint64_t seq = 0; running_.load(std::memory_order_relaxed); ++seq) {
+  const auto stall_before = [this](uint64_t seq) {
+    int64_t ns = 0;
     for (const MockStall& s : config_.stalls)
-      if (s.before_sequence == seq) shift_ns += s.duration_ns;
+      if (s.before_sequence == seq) ns += s.duration_ns;
+    return ns;
+  };
+  const auto delay_of = [this](uint64_t seq) {
+    return config_.delivery_delay_ns + (config_.extra_delay_ns ? config_.extra_delay_ns(seq) : 0);
+  };
+  for (uint64_t seq = 0; running_.load(std::memory_order_relaxed); ++seq) {
+    shift_ns += stall_before(seq);
     const int64_t exposure_ns = start_ns + shift_ns + static_cast<int64_t>(seq) * period_ns;
-    const int64_t delay_ns =
-        config_.delivery_delay_ns + (config_.extra_delay_ns ? config_.extra_delay_ns(seq) : 0);
+    const int64_t delay_ns = delay_of(seq);
+    if (config_.drop_on_overrun) {
+      const int64_t next_due_ns =
+          exposure_ns + period_ns + stall_before(seq + 1) + delay_of(seq + 1);
+      if (monotonic_now_ns() >= next_due_ns) {
+        overruns_.fetch_add(1, std::memory_order_relaxed);
+        dropped_.fetch_add(1, std::memory_order_relaxed);
+        continue;
+      }
+    }
     if (config_.drop_sequences.count(seq) != 0 || (config_.drop && config_.drop(seq))) {
       sleep_until(exposure_ns + delay_ns, running_);
       if (!running_.load(std::memory_order_relaxed)) break;

@@ -49,6 +49,10 @@ struct MockCameraConfig {
   std::function<int64_t(uint64_t sequence)> extra_delay_ns{};
   /// True: frame `sequence` is lost like those in drop_sequences.
   std::function<bool(uint64_t sequence)> drop{};
+  /// A real sensor exposes on its own clock whether or not the host keeps up: when making a frame
+  /// falls behind (the next frame is already due), this one is lost (an overrun, a sequence gap)
+  /// rather than every later frame arriving later and later.
+  bool drop_on_overrun = true;
 };
 
 class MockCamera : public CameraSource {
@@ -63,7 +67,10 @@ class MockCamera : public CameraSource {
   void start() override;
   void stop() override;
   SourceState state() const override;
+  /// Scripted drops plus overruns.
   uint64_t dropped_frames() const override { return dropped_.load(std::memory_order_relaxed); }
+  /// Frames lost because the generator could not keep the rate (part of dropped_frames()).
+  uint64_t overrun_frames() const { return overruns_.load(std::memory_order_relaxed); }
   Mailbox<Frame>& frames() override { return frames_; }
 
  private:
@@ -72,6 +79,7 @@ class MockCamera : public CameraSource {
   bool opened_ = false;
   std::atomic<bool> running_{false};
   std::atomic<uint64_t> dropped_{0};
+  std::atomic<uint64_t> overruns_{0};
   std::atomic<int64_t> last_publish_ns_{0};
   std::thread thread_;
   Mailbox<Frame> frames_;

@@ -58,7 +58,13 @@ Eigen::Matrix3d rotation_from_ypr_deg(const Eigen::Vector3d& ypr_deg) {
       .toRotationMatrix();
 }
 
-core::Pose object_pose_at(const Scene& scene, std::size_t index, double t_s) {
+double motion_time_s(const Scene& scene, double t_s) {
+  if (!scene.loop || !(scene.duration_s > 0.0) || t_s < scene.duration_s) return t_s;
+  return std::fmod(t_s, scene.duration_s);
+}
+
+core::Pose object_pose_at(const Scene& scene, std::size_t index, double t_scene_s) {
+  const double t_s = motion_time_s(scene, t_scene_s);
   const SceneObject& o = scene.objects.at(index);
   if (o.carrier.empty()) return keyframe_pose(o.keyframes, t_s);
   const auto carrier = std::find_if(scene.objects.begin(), scene.objects.end(),

@@ -160,6 +160,9 @@ struct Scene {
   std::string file;  ///< where it was read from
   std::string name;
   double duration_s = 20.0;
+  /// The head and the moving objects start over every duration_s (a soak outlasts the scene).
+  /// Only motion wraps: the scene clock itself, and so tracker drift and delays, runs on.
+  bool loop = false;
   core::WorkspaceBox workspace;
   std::array<uint8_t, 3> background_rgb{30, 32, 40};
   std::vector<ScenePrimitive> geometry;  ///< static, a-priori known
@@ -173,8 +176,12 @@ struct Scene {
 /// R = Ry(yaw) * Rx(pitch) * Rz(roll), angles in degrees (the scene files' orientation).
 Eigen::Matrix3d rotation_from_ypr_deg(const Eigen::Vector3d& ypr_deg);
 
-/// The pose of a moving object at time t (keyframes interpolated, carrying applied). `index` into
-/// scene.objects. Position is the object's origin; R its yaw.
+/// Scene time t_s as the scripted motion sees it: t_s itself, or t_s modulo duration_s when the
+/// scene loops (t < 0 is left alone: before the start everything holds its first pose).
+double motion_time_s(const Scene& scene, double t_s);
+
+/// The pose of a moving object at time t (keyframes interpolated, carrying applied, looped as
+/// motion_time_s says). `index` into scene.objects. Position is the object's origin; R its yaw.
 core::Pose object_pose_at(const Scene& scene, std::size_t index, double t_s);
 
 }  // namespace hd::render

@@ -316,6 +316,7 @@ Scene read_scene(const YamlFields& root) {
   s.file = root.file();
   s.name = root.optional_string("name", std::filesystem::path(root.file()).stem().string());
   s.duration_s = root.optional_double("duration_s", s.duration_s, Range{0.0, 86400.0, true, false});
+  s.loop = root.optional_bool("loop", s.loop);
   if (root.has("background")) s.background_rgb = read_rgb(root.at("background"));
 
   const YamlFields ws = root.required_map("workspace");

@@ -58,7 +58,7 @@ Simulation::Simulation(Scene scene)
 
   drivers::MockPoseSourceConfig pc;
   pc.id = "sim:head";
-  pc.motion = make_head_motion(scene_.head);
+  pc.motion = make_head_motion(scene_.head, scene_.loop ? scene_.duration_s : 0.0);
   pc.rate_hz = scene_.head.rate_hz;
   pc.epoch_ns = epoch_hook;
   const auto tracker = std::make_shared<TrackerEffects>(scene_.effects);

@@ -24,6 +24,10 @@ void add_run_options(CLI::App& cmd, RunOptions& o) {
   frames->excludes(seconds);
   cmd.add_option("--rate", o.rate_hz, "Frame rate in Hz (default: the config's, else 90)")
       ->check(CLI::Range(1.0, 1000.0));
+  cmd.add_flag("--loop", o.loop,
+               "Scene runs: the head and moving objects start over every duration_s, for runs "
+               "longer than the scene (the soak)")
+      ->excludes(config);
   cmd.add_option("--video", o.video_path, "Write every frame to this MJPG .avi")
       ->check([](const std::string& p) {
         return p.size() >= 4 && p.compare(p.size() - 4, 4, ".avi") == 0

@@ -17,6 +17,7 @@ struct RunOptions {
   uint64_t frames = 0;     ///< 0: run for `seconds`
   double seconds = 0.0;    ///< 0: the scene's duration (--scene) or 10 s (--config, headless)
   double rate_hz = 0.0;    ///< 0: the config's display rate, else 90
+  bool loop = false;       ///< --loop: the scene's motion starts over every duration_s
   std::string video_path;  ///< "" = no video
   uint64_t png_every = 0;  ///< 0 = no PNG frames
   std::size_t contact_tiles = 12;

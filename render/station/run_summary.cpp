@@ -42,8 +42,11 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                s.variant_frames[0], s.variant_frames[1], s.variant_frames[2], s.guidance_frames,
                s.camera_switches);
   for (std::size_t i = 0; i < s.camera_names.size(); ++i)
-    std::fprintf(out, "  camera %-20s new frames shown %" PRIu64 ", rejected %" PRIu64 "\n",
-                 s.camera_names[i].c_str(), s.camera_frames_shown[i], s.camera_frames_rejected[i]);
+    std::fprintf(out,
+                 "  camera %-20s new frames shown %" PRIu64 ", lost by the device %" PRIu64
+                 ", rejected %" PRIu64 "\n",
+                 s.camera_names[i].c_str(), s.camera_frames_shown[i], s.camera_frames_lost[i],
+                 s.camera_frames_rejected[i]);
   std::fprintf(out,
                "  head samples accepted %" PRIu64 ", rejected %" PRIu64 "; re-centres %" PRIu64
                ", tracker resets %" PRIu64 "; model updates %" PRIu64 "\n",
@@ -84,6 +87,7 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
   for (std::size_t i = 0; i < s.camera_names.size(); ++i)
     cams.push_back({{"name", s.camera_names[i]},
                     {"frames_shown", s.camera_frames_shown[i]},
+                    {"frames_lost", s.camera_frames_lost[i]},
                     {"frames_rejected", s.camera_frames_rejected[i]}});
   j["cameras"] = cams;
   j["head"] = {{"accepted", s.pose_accepted},

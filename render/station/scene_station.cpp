@@ -39,6 +39,7 @@ std::unique_ptr<StationParts> assemble_from_scene(render::Scene scene, const Run
   const std::vector<std::string> effects = scene.effects.names();
   const std::string scene_name = scene.name;
   const double duration_s = scene.duration_s;
+  const bool looped = scene.loop;
 
   p->simulation = std::make_unique<render::Simulation>(std::move(scene));
   render::Simulation& sim = *p->simulation;
@@ -115,8 +116,8 @@ std::unique_ptr<StationParts> assemble_from_scene(render::Scene scene, const Run
                          p->model.meshes.size()));
   }
 
-  p->report.note("scene",
-                 p->source_file + " (" + scene_name + ", " + fmt("%g s", duration_s) + ")");
+  p->report.note("scene", p->source_file + " (" + scene_name + ", " + fmt("%g s", duration_s) +
+                              (looped ? ", motion looped" : "") + ")");
   p->report.note("effects", join(effects));
   configure_frame(*p, display, transition, marking, workspace, "kalman", o);
   return p;

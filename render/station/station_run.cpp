@@ -77,7 +77,9 @@ std::unique_ptr<StationParts> assemble(const RunOptions& o) {
   } else {
     std::printf("hybrid-station run: scene %s (simulated devices)\n", scene_path.c_str());
   }
-  return assemble_from_scene(render::load_scene(scene_path), o);
+  render::Scene scene = render::load_scene(scene_path);
+  if (o.loop) scene.loop = true;
+  return assemble_from_scene(std::move(scene), o);
 }
 
 int run(const RunOptions& o) {
@@ -228,7 +230,11 @@ int run(const RunOptions& o) {
   s.camera_switches = frame.selector().switches();
   s.camera_names = p.camera_names;
   s.camera_frames_shown = frame.frames_fetched();
-  for (const auto& pipe : p.pipelines) s.camera_frames_rejected.push_back(pipe->rejected());
+  for (const auto& pipe : p.pipelines) {
+    // The pipeline's dropped count is the device's plus its own rejections.
+    s.camera_frames_rejected.push_back(pipe->rejected());
+    s.camera_frames_lost.push_back(pipe->dropped_frames() - pipe->rejected());
+  }
   s.pose_accepted = frame.pose_history().accepted();
   s.pose_rejected = frame.pose_history().rejected() + p.head->rejected_reports();
   s.recentres = p.head->recentres();

@@ -145,6 +145,7 @@ TEST(SceneFile, BrokenFilesNameLineAndField) {
        18, "objects[0].carried_by.object", "no other object named 'grip'"},
       {"workspace min above max", replace_line(kMinimal, 4, "  max: [1, -2, 3]\n"), 4,
        "workspace.max", ">= min"},
+      {"loop not a bool", kMinimal + "loop: sometimes\n", 13, "loop", "expected true or false"},
   };
   for (const Broken& c : cases) {
     SCOPED_TRACE(c.what);
@@ -206,6 +207,24 @@ TEST(SceneFile, ObjectPoseFollowsKeyframesAndCarrier) {
   EXPECT_NEAR((object_pose_at(s, 1, 10.0).t - Eigen::Vector3d(0.3, 0.36, 1.5)).norm(), 0, 1e-12);
   EXPECT_NEAR((object_pose_at(s, 1, 17.0).t - Eigen::Vector3d(0.3, 0.36, 1.5)).norm(), 0, 1e-12);
   EXPECT_NEAR(Eigen::AngleAxisd(object_pose_at(s, 1, 17.0).R).angle(), 30.0 * M_PI / 180.0, 1e-12);
+}
+
+TEST(SceneFile, LoopedSceneRepeatsObjectMotionEveryDuration) {
+  Scene s = load_scene((kScenes / "default.yaml").string());
+  EXPECT_FALSE(s.loop);
+  EXPECT_TRUE(parse_scene(kMinimal + "loop: true\n", "l.yaml").loop);
+  // Not looped: after the 20 s scene the block stays where it was put down.
+  EXPECT_NEAR((object_pose_at(s, 1, 27.0).t - Eigen::Vector3d(0.3, 0.36, 1.5)).norm(), 0, 1e-12);
+  s.loop = true;
+  // Looped: 27 s is 7 s into the second lap, the block in the gripper again (see above).
+  EXPECT_NEAR(
+      (object_pose_at(s, 1, 27.0).t - Eigen::Vector3d(0.1, 0.19, 1.3 + 0.2 * 2.0 / 3.0)).norm(), 0,
+      1e-12);
+  EXPECT_NEAR((object_pose_at(s, 0, 46.5).t - Eigen::Vector3d(0.0, 0.10, 1.4)).norm(), 0.0, 1e-9);
+  EXPECT_DOUBLE_EQ(motion_time_s(s, 3.0), 3.0);
+  EXPECT_DOUBLE_EQ(motion_time_s(s, 20.0), 0.0);
+  EXPECT_DOUBLE_EQ(motion_time_s(s, 3600.0 + 3.5), 3.5);
+  EXPECT_DOUBLE_EQ(motion_time_s(s, -1.0), -1.0);
 }
 
 }  // namespace

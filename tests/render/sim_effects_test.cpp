@@ -412,5 +412,27 @@ TEST(SimEffects, ModelStalenessIsReportedOnlyWhenListed) {
   EXPECT_TRUE(render(sim, 2).data == render(plain, 2).data);
 }
 
+TEST(SimEffects, TrackerDriftKeepsGrowingAcrossALoopedScene) {
+  // Only the scripted motion starts over: drift is of the tracker, whose clock runs on.
+  Scene drifting_scene = scene_with(
+      "  - tracker_drift: {position_m_s: 0.003, orientation_deg_s: 0, direction: [0, "
+      "0, 1]}\n");
+  Scene clean_scene = scene_with("");
+  drifting_scene.loop = clean_scene.loop = true;
+  const double lap = clean_scene.duration_s;
+  const Simulation drifting(std::move(drifting_scene));
+  const Simulation clean(std::move(clean_scene));
+  for (const double t : {1.0, lap + 1.0, 3 * lap + 1.0}) {
+    const Eigen::Vector3d dp =
+        drifting.head_sample(t, 0).T_tracker_head.t - clean.head_sample(t, 0).T_tracker_head.t;
+    EXPECT_NEAR(dp.z(), 0.003 * t, 1e-9) << t;
+    // And the clean head is on its first lap's pose.
+    EXPECT_NEAR(
+        (clean.head_sample(t, 0).T_tracker_head.t - clean.head_sample(1.0, 0).T_tracker_head.t)
+            .norm(),
+        0.0, 1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace hd::render

@@ -139,5 +139,31 @@ TEST(Simulation, DevicesStreamOnTheSharedClock) {
   EXPECT_TRUE(offline.data == f.data);
 }
 
+TEST(Simulation, HeadMotionStartsOverWhenTheSceneLoops) {
+  Scene once = small_default();
+  Scene looped = small_default();
+  looped.loop = true;
+  const Simulation a(std::move(once));
+  const Simulation b(std::move(looped));
+  const double lap = b.scene().duration_s;
+  auto gap = [](const drivers::PoseSample& x, const drivers::PoseSample& y) {
+    return (x.T_tracker_head.t - y.T_tracker_head.t).norm() +
+           Eigen::AngleAxisd(x.T_tracker_head.R.transpose() * y.T_tracker_head.R).angle();
+  };
+  // Within the first lap both are the same motion.
+  EXPECT_EQ(gap(a.head_sample(7.0, 0), b.head_sample(7.0, 0)), 0.0);
+  // After it, the scene that does not loop holds the last pose; the looped one is where it was
+  // a lap earlier, moving at the same rate (the angular velocity is of the second lap too).
+  EXPECT_EQ(gap(a.head_sample(lap + 7.0, 0), a.head_sample(lap, 0)), 0.0);
+  EXPECT_GT(gap(a.head_sample(7.0, 0), a.head_sample(lap + 7.0, 0)), 0.1);
+  const drivers::PoseSample first = b.head_sample(7.0, 0);
+  const drivers::PoseSample third = b.head_sample(2 * lap + 7.0, 0);
+  EXPECT_NEAR(gap(first, third), 0.0, 1e-9);
+  EXPECT_NEAR((first.angular_velocity_rad_s - third.angular_velocity_rad_s).norm(), 0.0, 1e-6);
+  EXPECT_GT(first.angular_velocity_rad_s.norm(), 0.01);
+  // The default motion ends where it starts, so the lap boundary is not a jump.
+  EXPECT_NEAR(gap(b.head_sample(lap - 1e-3, 0), b.head_sample(lap + 1e-3, 0)), 0.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace hd::render
