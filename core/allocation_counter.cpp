@@ -9,10 +9,12 @@ namespace {
 std::atomic<bool> g_all_threads{false};
 thread_local bool t_this_thread = false;
 std::atomic<uint64_t> g_count{0};
+thread_local uint64_t t_count = 0;
 
 void* counted_alloc(std::size_t n, std::size_t align) {
   if (t_this_thread || g_all_threads.load(std::memory_order_relaxed)) {
     g_count.fetch_add(1, std::memory_order_relaxed);
+    ++t_count;
   }
   void* p = align > alignof(std::max_align_t)
                 ? std::aligned_alloc(align, (n + align - 1) / align * align)
@@ -31,6 +33,9 @@ void count_allocations_on_this_thread(bool on) {
 }
 uint64_t counted_allocations() {
   return g_count.load();
+}
+uint64_t counted_allocations_on_this_thread() {
+  return t_count;
 }
 void reset_counted_allocations() {
   g_count.store(0);

@@ -15,6 +15,9 @@ void count_allocations_on_this_thread(bool on);
 
 /// operator new calls counted so far, and a reset to zero.
 uint64_t counted_allocations();
+/// Of those, the ones the calling thread made (never reset: take differences). Lets one run count
+/// a consumer thread and the whole process at once.
+uint64_t counted_allocations_on_this_thread();
 void reset_counted_allocations();
 
 }  // namespace hd::core

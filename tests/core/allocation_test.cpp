@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <thread>
 
 #include "core/allocation_counter.h"
 #include "core/blend_weights.h"
@@ -19,6 +20,27 @@ TEST(Allocation, CounterSeesAnAllocation) {
   void* p = ::operator new(sizeof(int));  // a direct call cannot be elided, unlike new-expressions
   ::operator delete(p);
   EXPECT_EQ(static_cast<long>(hd::core::counted_allocations()) - before, 1);
+}
+
+TEST(Allocation, ThisThreadsShareIsCountedApart) {
+  // All threads are counted in this program (main): the total sees both threads, the calling
+  // thread's count only its own two.
+  const uint64_t all_before = hd::core::counted_allocations();
+  const uint64_t mine_before = hd::core::counted_allocations_on_this_thread();
+  uint64_t theirs = 0;
+  std::thread other([&] {
+    const uint64_t b = hd::core::counted_allocations_on_this_thread();
+    for (int i = 0; i < 3; ++i) ::operator delete(::operator new(8));
+    theirs = hd::core::counted_allocations_on_this_thread() - b;
+  });
+  other.join();
+  for (int i = 0; i < 2; ++i) ::operator delete(::operator new(8));
+  const uint64_t mine = hd::core::counted_allocations_on_this_thread() - mine_before;
+  EXPECT_EQ(theirs, 3u);
+  // std::thread's own start-up state is allocated by this thread, once.
+  EXPECT_GE(mine, 2u);
+  EXPECT_LE(mine, 3u);
+  EXPECT_EQ(hd::core::counted_allocations() - all_before, mine + theirs);
 }
 
 TEST(Allocation, PerFrameDecisionAllocatesNothing) {

@@ -16,6 +16,7 @@
 #include "render/compositor/demo_scene.h"
 #include "render/compositor/look_pose.h"
 #include "render/gl/gl_compositor.h"
+#include "support/gl_vs_cpu_test.h"
 
 namespace {
 
@@ -59,22 +60,11 @@ double psnr_db(const ImageRgba8& a, const ImageRgba8& b) {
   return db;
 }
 
-class GlCompositorTest : public ::testing::Test {
+class GlCompositorTest : public hd::render::test::GlVsCpuTest {
  protected:
-  static void SetUpTestSuite() {
-    hd::render::gl::WindowOptions o;
-    o.headless = true;
-    o.width = 64;
-    o.height = 64;
-    try {
-      gl_ = std::make_unique<GlCompositor>(o);
-    } catch (const std::exception& e) {
-      error_ = e.what();
-    }
-  }
-  static void TearDownTestSuite() { gl_.reset(); }
   void SetUp() override {
-    ASSERT_TRUE(gl_) << "no OpenGL 3.3 core context: " << error_;
+    GlVsCpuTest::SetUp();
+    if (HasFatalFailure()) return;
     scene_ = hd::render::make_demo_scene();
     hd::render::render_demo_frame(scene_, real_, T_world_real_, 25, frame_);
     frame_.sequence = ++sequence_;
@@ -98,24 +88,12 @@ class GlCompositorTest : public ::testing::Test {
     return r;
   }
 
-  // Draws `req` with both compositors into fresh pictures of the given size.
-  void draw_both(const CompositeRequest& req, int w, int h) {
-    cpu_out_.allocate(w, h);
-    gl_out_.allocate(w, h);
-    cpu_.draw(req, cpu_out_);
-    gl_->draw(req, gl_out_);
-  }
-
-  static inline std::unique_ptr<GlCompositor> gl_;
-  static inline std::string error_;
   static inline uint64_t sequence_ = 0;
   Pinhole eye_ = pinhole(330.0, 400, 300);
   Pinhole real_ = pinhole(420.0, 480, 360);
   Pose T_world_real_ = look_pose(0.0, -5.0, {0.0, -0.1, -0.2});
   hd::render::SyntheticScene scene_;
   hd::drivers::Frame frame_;
-  CpuCompositor cpu_{2};
-  ImageRgba8 cpu_out_, gl_out_;
 };
 
 TEST_F(GlCompositorTest, RunsOnLlvmpipeWithACoreContext) {

@@ -15,6 +15,7 @@
 #include "render/gl/gl_compositor.h"
 #include "render/overlay/hud_strip.h"
 #include "render/selection/guidance_cue.h"
+#include "support/gl_vs_cpu_test.h"
 
 namespace hd::render {
 namespace {
@@ -75,22 +76,8 @@ int max_diff_off_lines(const ImageRgba8& a, const ImageRgba8& b, const Overlay& 
   return worst;
 }
 
-class GlOverlayTest : public ::testing::Test {
+class GlOverlayTest : public test::GlVsCpuTest {
  protected:
-  static void SetUpTestSuite() {
-    gl::WindowOptions o;
-    o.headless = true;
-    o.width = 64;
-    o.height = 64;
-    try {
-      gl_ = std::make_unique<GlCompositor>(o);
-    } catch (const std::exception& e) {
-      error_ = e.what();
-    }
-  }
-  static void TearDownTestSuite() { gl_.reset(); }
-  void SetUp() override { ASSERT_TRUE(gl_) << "no OpenGL 3.3 core context: " << error_; }
-
   CompositeRequest request(const Pose& T_world_eye, const Viewport& vp) const {
     CompositeRequest r;
     r.scene = &scene_;
@@ -110,16 +97,6 @@ class GlOverlayTest : public ::testing::Test {
     return o;
   }
 
-  // The picture of `req` and then `o` over it, by both compositors, into fresh w x h pictures.
-  void draw_both(const CompositeRequest& req, const Overlay& o, int w, int h) {
-    cpu_out_.allocate(w, h);
-    gl_out_.allocate(w, h);
-    cpu_.draw(req, cpu_out_);
-    cpu_.draw_overlay(o, req.viewport, cpu_out_);
-    gl_->draw(req, gl_out_);
-    gl_->draw_overlay(o, req.viewport, gl_out_);
-  }
-
   void expect_lines_match(const Overlay& o, int min_line_pixels) {
     for (const auto& c : {o.frustum_rgb, o.arrow_rgb}) {
       int n_cpu = 0, n_gl = 0;
@@ -135,12 +112,8 @@ class GlOverlayTest : public ::testing::Test {
     EXPECT_LE(max_diff_off_lines(cpu_out_, gl_out_, o), 2);
   }
 
-  static inline std::unique_ptr<GlCompositor> gl_;
-  static inline std::string error_;
   Pinhole eye_ = Pinhole::centred(330.0, 400, 300);
   SyntheticScene scene_;  // background only: overlay pixels stand out
-  CpuCompositor cpu_{1};
-  ImageRgba8 cpu_out_, gl_out_;
 };
 
 TEST_F(GlOverlayTest, FrustumAndArrowMatchTheCpuPainter) {
@@ -149,7 +122,7 @@ TEST_F(GlOverlayTest, FrustumAndArrowMatchTheCpuPainter) {
                            1.4};
   const Overlay o = overlay(T_world_eye, cam);
   ASSERT_TRUE(o.cue.active);
-  draw_both(request(T_world_eye, {0, 0, 400, 300}), o, 400, 300);
+  draw_both(request(T_world_eye, {0, 0, 400, 300}), 400, 300, &o);
   expect_lines_match(o, 60);
 }
 
@@ -166,7 +139,7 @@ TEST_F(GlOverlayTest, FrustumCrossingTheNearPlaneMatchesTheCpuPainter) {
   Eigen::Vector3d c = T_world_eye.to_camera(cam.T_world_real.t);
   ASSERT_LT(c.z(), 0.05) << "the camera centre should be behind the eye's near plane";
   ASSERT_GT(segs.frustum_count, 0);
-  draw_both(request(T_world_eye, {0, 0, 400, 300}), o, 400, 300);
+  draw_both(request(T_world_eye, {0, 0, 400, 300}), 400, 300, &o);
   expect_lines_match(o, 60);
 }
 
@@ -177,7 +150,7 @@ TEST_F(GlOverlayTest, HudStripIsInTheReadBackAndMatchesTheCpuBlend) {
   o.hud = &hud;
   const CompositeRequest req = request(Pose::identity(), {0, 0, 400, 300});
   const uint64_t uploads = gl_->hud_uploads();
-  draw_both(req, o, 400, 300);
+  draw_both(req, 400, 300, &o);
   EXPECT_EQ(gl_->hud_uploads(), uploads + 1);
   int worst = 0, dark = 0, bright = 0;
   for (int y = 0; y < 300; ++y)

@@ -16,6 +16,7 @@
 #include "render/model/model_updater.h"
 #include "render/prediction/kalman_predictor.h"
 #include "render/video/camera_pipeline.h"
+#include "support/small_station.h"
 
 namespace hd::render {
 namespace {
@@ -35,55 +36,19 @@ class CountingWork final : public FrameWork {
   FrameWork& inner_;
 };
 
-SyntheticScene make_scene() {
-  SyntheticScene scene;
-  TexturedMesh quad;
-  quad.positions_m = {{-1, -1, 2}, {1, -1, 2}, {1, 1, 2}, {-1, 1, 2}};
-  quad.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  quad.triangles = {{0, 1, 2}, {0, 2, 3}};
-  quad.texture.allocate(8, 8);
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) quad.texture.pixel(x, y)[(x + y) % 3] = 255;
-  scene.meshes.push_back(std::move(quad));
-  return scene;
-}
-
 TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
-  const core::Pinhole cam_k{160, 160, 80, 60, 160, 120};
-  drivers::MockCameraConfig cc;
-  cc.width = 160;
-  cc.height = 120;
-  cc.rate_hz = 120.0;
-  drivers::MockCamera camera(cc);
-  drivers::MockPoseSourceConfig pc;
+  drivers::MockCamera camera(test::small_camera_config());
   // Head sways 20 cm sideways around the camera position: video, hybrid and synthetic all occur.
-  pc.motion = [](double t_s) {
-    drivers::TrajectorySample s;
-    s.t_s = t_s;
-    s.position_m = {0.2 * std::sin(2.0 * M_PI * 1.5 * t_s), 0.0, 0.0};
-    s.q = Eigen::Quaterniond(
-        Eigen::AngleAxisd(0.3 * std::sin(2.0 * M_PI * t_s), Eigen::Vector3d::UnitY()));
-    return s;
-  };
-  pc.rate_hz = 500.0;
-  drivers::MockPoseSource pose(pc);
-  camera.open();
-  pose.open();
-  camera.start();
-  pose.start();
+  drivers::MockPoseSource pose(test::head_config(test::head_motion(
+      [](double t) { return Eigen::Vector3d(0.2 * std::sin(2.0 * M_PI * 1.5 * t), 0.0, 0.0); },
+      [](double t) { return 0.3 * std::sin(2.0 * M_PI * t); })));
+  test::StartedDevices devices(camera, pose);
 
-  StationFrameConfig cfg;
-  cfg.rig = StereoRig();
-  cfg.rig.eye = {core::Pinhole{150, 150, 80, 60, 160, 120},
-                 core::Pinhole{150, 150, 80, 60, 160, 120}};
-  cfg.workspace.min_m = {-1, -1, 1};
-  cfg.workspace.max_m = {1, 1, 3};
-  cfg.transition.m_t = 8;  // m swings between ~3 and ~36 with this motion
-  cfg.transition.eps = 3;
-  cfg.transition.time_constant_s = 0.0;
-  cfg.max_rows = 400;
-  const StationCamera cams[] = {{&camera, cam_k, core::Pose::identity(), 2.0}};
-  const SyntheticScene scene = make_scene();
+  const StationFrameConfig cfg =
+      test::small_station_config(400);  // m swings ~3..36 with this motion
+  const StationCamera cams[] = {
+      {&camera, test::small_camera_intrinsics(), core::Pose::identity(), 2.0}};
+  const SyntheticScene scene = test::checker_quad_scene();
   KalmanPredictor predictor;
   CpuCompositor compositor(1);
   MonotonicLoopClock clock;
@@ -102,8 +67,7 @@ TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
   hd::core::count_allocations_on_this_thread(true);
   const auto hud = latency.hud_line();
   hd::core::count_allocations_on_this_thread(false);
-  camera.stop();
-  pose.stop();
+  devices.stop();
 
   EXPECT_EQ(allocations, 0u);
   EXPECT_EQ(hd::core::counted_allocations(), 0u) << hud;
@@ -126,43 +90,21 @@ TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
 // model updater re-textures from that camera 20 times a second: the tick still allocates nothing,
 // and the latency log carries the model's age.
 TEST(LoopNoAllocation, StationWithCameraPipelineAndModelUpdaterAllocatesNothing) {
-  core::Pinhole cam_k{160, 160, 80, 60, 160, 120};
+  core::Pinhole cam_k = test::small_camera_intrinsics();
   cam_k.distortion = {-0.2, 0.05, 0.0, 0.0, 0.0};
   cam_k.distortion_count = 5;
-  drivers::MockCameraConfig cc;
-  cc.width = 160;
-  cc.height = 120;
-  cc.rate_hz = 120.0;
-  drivers::MockCamera camera(cc);
+  drivers::MockCamera camera(test::small_camera_config());
   CameraPipeline pipeline(camera, {cam_k, 0.05, 200'000});
-  drivers::MockPoseSourceConfig pc;
-  pc.motion = [](double t_s) {
-    drivers::TrajectorySample s;
-    s.t_s = t_s;
-    s.position_m = {0.2 * std::sin(2.0 * M_PI * 1.5 * t_s), 0.0, 0.0};
-    return s;
-  };
-  pc.rate_hz = 500.0;
-  drivers::MockPoseSource pose(pc);
-  pipeline.open();
-  pose.open();
-  pipeline.start();
-  pose.start();
+  drivers::MockPoseSource pose(test::head_config(test::head_motion(
+      [](double t) { return Eigen::Vector3d(0.2 * std::sin(2.0 * M_PI * 1.5 * t), 0.0, 0.0); },
+      [](double) { return 0.0; })));
+  test::StartedDevices devices(pipeline, pose);
 
-  StationFrameConfig cfg;
-  cfg.rig = StereoRig();
-  cfg.rig.eye = {core::Pinhole{150, 150, 80, 60, 160, 120},
-                 core::Pinhole{150, 150, 80, 60, 160, 120}};
-  cfg.workspace.min_m = {-1, -1, 1};
-  cfg.workspace.max_m = {1, 1, 3};
-  cfg.transition.m_t = 8;
-  cfg.transition.eps = 3;
-  cfg.transition.time_constant_s = 0.0;
-  cfg.max_rows = 400;
+  const StationFrameConfig cfg = test::small_station_config(400);
   core::Pinhole undistorted = cam_k;
   undistorted.distortion_count = 0;
   const StationCamera cams[] = {{&pipeline, undistorted, core::Pose::identity(), 2.0}};
-  const SyntheticScene scene = make_scene();
+  const SyntheticScene scene = test::checker_quad_scene();
   MonotonicLoopClock clock;
   const ModelCamera model_cams[] = {
       {&pipeline.model_frames(), undistorted, core::Pose::identity()}};
@@ -186,8 +128,7 @@ TEST(LoopNoAllocation, StationWithCameraPipelineAndModelUpdaterAllocatesNothing)
   work.counting = false;
   const uint64_t allocations = hd::core::counted_allocations();
   updater.stop();
-  pipeline.stop();
-  pose.stop();
+  devices.stop();
 
   EXPECT_EQ(allocations, 0u);
   EXPECT_GT(frame.frames_fetched()[0], 20u);

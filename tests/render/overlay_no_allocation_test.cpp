@@ -14,6 +14,7 @@
 #include "render/overlay/overlay_painter.h"
 #include "render/prediction/constant_velocity_predictor.h"
 #include "render/selection/guidance_cue.h"
+#include "support/small_station.h"
 
 namespace hd::render {
 namespace {
@@ -59,37 +60,17 @@ TEST(OverlayNoAllocation, HundredOverlayDrawsAllocateNothing) {
 // The station frame with a HUD line set and the head far from the only camera (synthetic view,
 // guidance on): every tick draws frustum, arrow and HUD, and allocates nothing.
 TEST(OverlayNoAllocation, StationFrameDrawsGuidanceAndHudWithoutAllocating) {
-  drivers::MockCameraConfig cc;
-  cc.width = 160;
-  cc.height = 120;
-  cc.rate_hz = 120.0;
-  drivers::MockCamera camera(cc);
-  drivers::MockPoseSourceConfig pc;
-  pc.motion = [](double t_s) {
-    drivers::TrajectorySample s;
-    s.t_s = t_s;
-    s.position_m = {1.0 + 0.05 * t_s, -0.2, -0.8};  // 1.3 m from the camera: synthetic only
-    s.q = Eigen::Quaterniond(Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitY()));
-    return s;
-  };
-  pc.rate_hz = 500.0;
-  drivers::MockPoseSource pose(pc);
-  camera.open();
-  pose.open();
-  camera.start();
-  pose.start();
+  drivers::MockCamera camera(test::small_camera_config());
+  drivers::MockPoseSource pose(test::head_config(test::head_motion(
+      // 1.3 m from the camera: synthetic only
+      [](double t) { return Eigen::Vector3d(1.0 + 0.05 * t, -0.2, -0.8); },
+      [](double) { return -0.4; })));
+  test::StartedDevices devices(camera, pose);
 
-  StationFrameConfig cfg;
-  cfg.rig.eye = {core::Pinhole::centred(150, 160, 120), core::Pinhole::centred(150, 160, 120)};
-  cfg.workspace.min_m = {-1, -1, 1};
-  cfg.workspace.max_m = {1, 1, 3};
-  cfg.transition.m_t = 8;
-  cfg.transition.eps = 3;
-  cfg.transition.time_constant_s = 0.0;
-  cfg.max_rows = 200;
+  StationFrameConfig cfg = test::small_station_config(200);
   cfg.marking.style = core::MarkingStyle::kNone;  // the background stays (40, 40, 48)
   const StationCamera cams[] = {
-      {&camera, core::Pinhole::centred(160, 160, 120), core::Pose::identity(), 2.0}};
+      {&camera, test::small_camera_intrinsics(), core::Pose::identity(), 2.0}};
   ConstantVelocityPredictor predictor;
   CpuCompositor compositor(1);
   MonotonicLoopClock clock;
@@ -103,8 +84,7 @@ TEST(OverlayNoAllocation, StationFrameDrawsGuidanceAndHudWithoutAllocating) {
   hd::core::count_allocations_on_this_thread(true);
   loop.run(100, frame);
   hd::core::count_allocations_on_this_thread(false);
-  camera.stop();
-  pose.stop();
+  devices.stop();
   EXPECT_EQ(hd::core::counted_allocations(), 0u);
 
   int guided = 0;

@@ -15,39 +15,10 @@
 #include <thread>
 #include <vector>
 
+#include "core/allocation_counter.h"
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/gige/gige_camera.h"
 #include "fake_gige_camera.h"
-
-// Counting allocator: every C++ heap allocation in the process goes through here.
-namespace {
-std::atomic<uint64_t> g_allocations{0};
-thread_local uint64_t t_allocations = 0;
-void* counted_alloc(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  ++t_allocations;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-}  // namespace
-void* operator new(std::size_t n) {
-  return counted_alloc(n);
-}
-void* operator new[](std::size_t n) {
-  return counted_alloc(n);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace {
 
@@ -126,21 +97,24 @@ int main(int argc, char** argv) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   const auto dropped_before = cam.dropped_frames();
-  const uint64_t process_before = g_allocations.load();
+  // Every thread's allocations count from here: Aravis's stream thread and ours as well.
+  hd::core::count_allocations_on_all_threads(true);
+  const uint64_t process_before = hd::core::counted_allocations();
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   uint64_t checksum = 0;
   while (std::chrono::steady_clock::now() < end) {
     // The consumer side of the hand-off, as the render loop does it: fetch and read.
-    const uint64_t before = t_allocations;
+    const uint64_t before = hd::core::counted_allocations_on_this_thread();
     if (cam.frames().fetch()) {
       ++consumer_fetches;
       checksum += cam.frames().latest().data[0];
     }
-    consumer_allocs += t_allocations - before;
+    consumer_allocs += hd::core::counted_allocations_on_this_thread() - before;
     drain(true);
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
-  process_allocs = g_allocations.load() - process_before;
+  process_allocs = hd::core::counted_allocations() - process_before;
+  hd::core::count_allocations_on_all_threads(false);
   const auto published = cam.stats().frames_published;
   const auto dropped = cam.dropped_frames() - dropped_before;
   cam.stop();
