@@ -239,6 +239,43 @@ TEST_F(StationRunTest, MockStationConfigRunsItsDevicesAndSkipsTheOptionalMissing
   EXPECT_GT(s["head"]["accepted"].get<uint64_t>(), 0u);
 }
 
+TEST_F(StationRunTest, LoopStartsTheHeadMotionOverAfterEachLap) {
+  // A 2 s scene whose head slides 0.4 m along x in its first second and holds: after the first
+  // lap a looped run brings it back to x = 0 (the wrap), a run without --loop keeps it at 0.4.
+  const fs::path scene = dir_ / "slide.yaml";
+  std::ofstream(scene) << "duration_s: 2\n"
+                          "workspace: {min: [-1, -1, 0.5], max: [1, 1, 3]}\n"
+                          "geometry: [{shape: quad, center: [0, 0, 2], size: [2, 2]}]\n"
+                          "cameras:\n"
+                          "  - {name: c0, d_m: 2, pose: {position: [0, 0, 0]},\n"
+                          "     intrinsics: {fx: 60, fy: 60, width: 64, height: 48}}\n"
+                          "head:\n"
+                          "  smooth: false\n"
+                          "  keyframes: [{t: 0, position: [0, 0, 0]}, {t: 1, position: [0.4, 0, "
+                          "0]}]\n";
+  // The smallest head x in the frames after t = 1.2 s of the run.
+  const auto late_min_x = [&](const std::string& extra, const fs::path& out) {
+    const Result r =
+        run("--scene '" + scene.string() + "' --headless --seconds 3.2 " + extra +
+            " --predictor none --mono --eye-width 64 --eye-height 48 --out '" + out.string() + "'");
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    if (!extra.empty()) {
+      EXPECT_NE(r.out.find("2 s, motion looped)"), std::string::npos) << r.out;
+    }
+    double lowest = 1e9;
+    int rows = 0;
+    for (const auto& row : read_csv(out / "frames.csv").rows) {
+      if (std::stod(row.at("t_s")) <= 1.2) continue;
+      lowest = std::min(lowest, std::stod(row.at("head_x_m")));
+      ++rows;
+    }
+    EXPECT_GT(rows, 100);
+    return lowest;
+  };
+  EXPECT_GT(late_min_x("", dir_ / "once"), 0.399);
+  EXPECT_LT(late_min_x("--loop", dir_ / "looped"), 0.05);
+}
+
 TEST_F(StationRunTest, BrokenSceneExitsWithFileLineAndField) {
   std::string text = slurp(fs::path(HD_SOURCE_DIR) / "scenes" / "default.yaml");
   if (!text.empty() && text.back() != '\n') text += '\n';
