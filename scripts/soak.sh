@@ -43,6 +43,7 @@ echo "== soak: $scene, ${minutes} min at 90 Hz, headless; RSS every 10 s -> $rss
 pid=$!
 trap 'kill "$pid" 2>/dev/null || true' INT TERM
 echo "t_s,vmrss_kb" > "$rss_csv.tmp"
+samples=0
 start=$(date +%s.%N)
 while kill -0 "$pid" 2>/dev/null; do
   # Sample every 10 s from t = 10 s (a sample at 0 s would be the process before it set up), but
@@ -52,6 +53,9 @@ while kill -0 "$pid" 2>/dev/null; do
   if [ -n "$rss" ]; then
     now=$(date +%s.%N)
     printf '%.1f,%s\n' "$(python3 -c "print($now - $start)")" "$rss" >> "$rss_csv.tmp"
+    samples=$((samples + 1))
+    # Once a minute, the station's own progress line (frames, missed deadlines, variants).
+    if [ $((samples % 6)) -eq 0 ]; then grep '] frames ' "$out/run.log" | tail -1 || true; fi
   fi
 done
 rc=0

@@ -50,6 +50,11 @@ void add_run_options(CLI::App& cmd, RunOptions& o) {
       ->check(CLI::IsMember(transition_mode_names()));
   cmd.add_option("--marking", o.marking, "none | frame | desaturate | checker")
       ->check(CLI::IsMember(marking_style_names()));
+  cmd.add_option("--progress", o.progress_s,
+                 "Seconds between progress lines (frames, missed deadlines, variants, memory); 0: "
+                 "none")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 86400.0));
   cmd.add_option("--warmup", o.warmup, "Frames before render-thread allocations are counted");
   cmd.add_option("--max-log-rows", o.max_log_rows,
                  "frames.csv keeps the first N frames (storage reserved up front)")

@@ -30,6 +30,7 @@ struct RunOptions {
   std::string transition_mode;        ///< "": config's (per_pixel)
   std::string marking;                ///< "": config's (frame for scenes)
   uint64_t warmup = 30;
+  double progress_s = 10.0;              ///< a progress line every this many seconds; 0 = none
   std::size_t max_log_rows = 1'000'000;  ///< frames.csv keeps the first this many frames
 };
 

@@ -26,6 +26,7 @@
 #include "render/station/frame_log.h"
 #include "render/station/frame_recorder.h"
 #include "render/station/frames_csv.h"
+#include "render/station/run_progress.h"
 #include "render/station/run_summary.h"
 #include "render/station/run_work.h"
 #include "render/station/scene_locator.h"
@@ -179,6 +180,7 @@ int run(const RunOptions& o) {
   const int64_t start_ns = clock.now_ns();
   int64_t next_hud_ns = start_ns;
   std::string hud;
+  RunProgress progress(o.progress_s, stdout, start_ns);
   for (;;) {
     if (o.frames && loop.frames() >= o.frames) break;
     if (!o.frames && seconds > 0.0 &&
@@ -186,8 +188,10 @@ int run(const RunOptions& o) {
       break;
     if (g_interrupted.load()) break;
     loop.tick(work);
-    // Between frames, outside the counted tick: the HUD text (OpenCV may allocate), the keys.
+    // Between frames, outside the counted tick: progress, the HUD text (OpenCV may allocate), the
+    // keys.
     const int64_t now = clock.now_ns();
+    progress.frame_done(frame.last_row().variant, loop.frames(), loop.missed_deadlines(), now);
     if (now >= next_hud_ns) {
       next_hud_ns = now + 500'000'000;
       const render::FrameRow& r = frame.last_row();

@@ -4,17 +4,20 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "render/station/contact_sheet.h"
 #include "render/station/frame_log.h"
 #include "render/station/frame_recorder.h"
 #include "render/station/frames_csv.h"
+#include "render/station/run_progress.h"
 #include "render/station/trace_plot.h"
 
 namespace hd::station {
@@ -249,6 +252,61 @@ TEST(FrameRecorder, UnopenableVideoIsNamed) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/run.avi"), std::string::npos);
   }
+}
+
+TEST(RunProgress, ALineEveryPeriodWithTheCountsSoFarAndNoBurstAfterAStall) {
+  char buf[4096] = {};
+  std::FILE* out = fmemopen(buf, sizeof buf - 1, "w");
+  ASSERT_NE(out, nullptr);
+  constexpr int64_t kStart = 5'000'000'000, kFrame = 10'000'000;  // 100 Hz
+  RunProgress progress(1.0, out, kStart);
+  uint64_t frames = 0;
+  // 2.5 s of frames: video, then hybrid, then synthetic; every 50th misses.
+  for (int i = 1; i <= 250; ++i) {
+    const core::Variant v = i <= 100
+                                ? core::Variant::kVideo
+                                : (i <= 150 ? core::Variant::kHybrid : core::Variant::kSynthetic);
+    progress.frame_done(v, ++frames, static_cast<uint64_t>(i / 50), kStart + i * kFrame);
+  }
+  // A 4 s stall: one line for it, not four.
+  progress.frame_done(core::Variant::kSynthetic, ++frames, 5, kStart + 6'600'000'000);
+  std::fclose(out);
+  const std::string text(buf);
+  std::vector<std::string> lines;
+  std::stringstream ss(text);
+  for (std::string l; std::getline(ss, l);) lines.push_back(l);
+  ASSERT_EQ(lines.size(), 3u) << text;
+  EXPECT_EQ(lines[0].rfind("  [     1 s] frames 100, missed deadlines 2 (2.00 %); video 100 / "
+                           "hybrid 0 / synthetic 0 frames; resident ",
+                           0),
+            0u)
+      << lines[0];
+  EXPECT_NE(
+      lines[1].find("[     2 s] frames 200, missed deadlines 4 (2.00 %); video 100 / hybrid 50 "
+                    "/ synthetic 50 frames"),
+      std::string::npos)
+      << lines[1];
+  EXPECT_NE(
+      lines[2].find("[     7 s] frames 251, missed deadlines 5 (1.99 %); video 100 / hybrid 50 "
+                    "/ synthetic 101 frames"),
+      std::string::npos)
+      << lines[2];
+  EXPECT_NE(lines[2].find(" MiB"), std::string::npos);
+  // This test program's own resident memory: more than nothing, less than the machine.
+  const long kib = RunProgress::resident_kib();
+  EXPECT_GT(kib, 1024);
+  EXPECT_LT(kib, 24L * 1024 * 1024);
+}
+
+TEST(RunProgress, ZeroPeriodPrintsNothing) {
+  char buf[256] = {};
+  std::FILE* out = fmemopen(buf, sizeof buf - 1, "w");
+  ASSERT_NE(out, nullptr);
+  RunProgress progress(0.0, out, 0);
+  for (int i = 1; i <= 1000; ++i)
+    progress.frame_done(core::Variant::kVideo, i, 0, i * 100'000'000LL);
+  std::fclose(out);
+  EXPECT_STREQ(buf, "");
 }
 
 }  // namespace

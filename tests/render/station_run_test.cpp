@@ -257,8 +257,16 @@ TEST_F(StationRunTest, LoopStartsTheHeadMotionOverAfterEachLap) {
   const auto late_min_x = [&](const std::string& extra, const fs::path& out) {
     const Result r =
         run("--scene '" + scene.string() + "' --headless --seconds 3.2 " + extra +
-            " --predictor none --mono --eye-width 64 --eye-height 48 --out '" + out.string() + "'");
+            " --predictor none --progress 1 --mono --eye-width 64 --eye-height 48 --out '" +
+            out.string() + "'");
     EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    // A progress line a second: at 1, 2 and 3 s (the last only if a frame falls in 3..3.2 s).
+    std::size_t lines = 0;
+    for (std::size_t at = r.out.find("] frames "); at != std::string::npos;
+         at = r.out.find("] frames ", at + 1))
+      ++lines;
+    EXPECT_GE(lines, 2u) << r.out;
+    EXPECT_LE(lines, 3u) << r.out;
     if (!extra.empty()) {
       EXPECT_NE(r.out.find("2 s, motion looped)"), std::string::npos) << r.out;
     }
