@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
-#include <ctime>
 #include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
