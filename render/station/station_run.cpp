@@ -4,6 +4,7 @@
 #include <GLFW/glfw3.h>
 
 #include <atomic>
+#include <chrono>
 #include <cinttypes>
 #include <cmath>
 #include <csignal>
@@ -12,6 +13,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "calib/camera_factory.h"
 #include "core/allocation_counter.h"
@@ -62,6 +64,22 @@ std::unique_ptr<render::PosePredictor> make_predictor(const std::string& name) {
   if (name == "none") return std::make_unique<render::HoldPredictor>();
   if (name == "cv") return std::make_unique<render::ConstantVelocityPredictor>();
   return std::make_unique<render::KalmanPredictor>();
+}
+
+// The first frames would otherwise show the tracker origin (the predictor has nothing yet), not
+// the operator's head. Cameras are not waited for: a frame without video is honestly synthetic.
+void wait_for_first_head_sample(drivers::PoseSource& head, render::LoopClock& clock) {
+  constexpr int64_t kPatience_ns = 2'000'000'000;
+  const int64_t start = clock.now_ns();
+  while (head.latest().published() == 0 && !g_interrupted.load()) {
+    if (clock.now_ns() - start > kPatience_ns) {
+      std::printf("  note: no head sample from %s after 2 s: frames start at the tracker origin\n",
+                  head.id().c_str());
+      std::fflush(stdout);
+      return;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
 }
 
 std::unique_ptr<StationParts> assemble(const RunOptions& o) {
@@ -177,6 +195,7 @@ int run(const RunOptions& o) {
 
   core::reset_counted_allocations();
   p.start();
+  wait_for_first_head_sample(*p.head, clock);
   const int64_t start_ns = clock.now_ns();
   int64_t next_hud_ns = start_ns;
   std::string hud;

@@ -191,6 +191,11 @@ TEST_F(StationRunTest, DefaultSceneWritesEveryOutputAndTheVideoReadsBack) {
   EXPECT_NE(r.out.find("tracker  ok      sim:head"), std::string::npos) << r.out;
 
   check_frames_csv(out / "frames.csv", 60, {"sim:cam0", "sim:cam1"});
+  // The run waits for the head: even frame 0 is drawn from camera 0's place, where the default
+  // scene's head starts (0, -0.3, 0), not from the tracker origin.
+  const CsvTable frames = read_csv(out / "frames.csv");
+  ASSERT_FALSE(frames.rows.empty());
+  EXPECT_NEAR(std::stod(frames.rows[0].at("head_y_m")), -0.3, 0.01);
   EXPECT_EQ(hd::render::LatencyRecorder::read_csv((out / "latency.csv").string()).size(), 60u);
   expect_png(out / "latency.png", 100, 100);
   expect_png(out / "trace.png", 1200, 720);
