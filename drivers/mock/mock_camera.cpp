@@ -95,30 +95,30 @@ void MockCamera::run() {
     const int64_t behind = start_ns - epoch;
     start_ns = behind <= 0 ? epoch : epoch + (behind + period_ns - 1) / period_ns * period_ns;
   }
-  const auto stall_before = [this](uint64_t seq) {
-    int64_t ns = 0;
+  // When frame `seq` is exposed and due; each frame's slot is worked out once, as the next one
+  // while the frame before it is made (the overrun check needs it then).
+  struct Slot {
+    int64_t exposure_ns, due_ns;
+  };
+  const auto slot_of = [&](uint64_t seq) {
     for (const MockStall& s : config_.stalls)
-      if (s.before_sequence == seq) ns += s.duration_ns;
-    return ns;
+      if (s.before_sequence == seq) shift_ns += s.duration_ns;
+    const int64_t exposure = start_ns + shift_ns + static_cast<int64_t>(seq) * period_ns;
+    const int64_t delay =
+        config_.delivery_delay_ns + (config_.extra_delay_ns ? config_.extra_delay_ns(seq) : 0);
+    return Slot{exposure, exposure + delay};
   };
-  const auto delay_of = [this](uint64_t seq) {
-    return config_.delivery_delay_ns + (config_.extra_delay_ns ? config_.extra_delay_ns(seq) : 0);
-  };
+  Slot next = slot_of(0);
   for (uint64_t seq = 0; running_.load(std::memory_order_relaxed); ++seq) {
-    shift_ns += stall_before(seq);
-    const int64_t exposure_ns = start_ns + shift_ns + static_cast<int64_t>(seq) * period_ns;
-    const int64_t delay_ns = delay_of(seq);
-    if (config_.drop_on_overrun) {
-      const int64_t next_due_ns =
-          exposure_ns + period_ns + stall_before(seq + 1) + delay_of(seq + 1);
-      if (monotonic_now_ns() >= next_due_ns) {
-        overruns_.fetch_add(1, std::memory_order_relaxed);
-        dropped_.fetch_add(1, std::memory_order_relaxed);
-        continue;
-      }
+    const Slot slot = next;
+    next = slot_of(seq + 1);
+    if (config_.drop_on_overrun && monotonic_now_ns() >= next.due_ns) {
+      overruns_.fetch_add(1, std::memory_order_relaxed);
+      dropped_.fetch_add(1, std::memory_order_relaxed);
+      continue;
     }
     if (config_.drop_sequences.count(seq) != 0 || (config_.drop && config_.drop(seq))) {
-      sleep_until(exposure_ns + delay_ns, running_);
+      sleep_until(slot.due_ns, running_);
       if (!running_.load(std::memory_order_relaxed)) break;
       dropped_.fetch_add(1, std::memory_order_relaxed);
       continue;
@@ -127,15 +127,15 @@ void MockCamera::run() {
     // is published at exposure + delay and not later by the time it takes to render.
     Frame& f = frames_.write_slot();
     f.sequence = seq;
-    f.host_timestamp_ns = exposure_ns;
-    f.device_timestamp_ns = exposure_ns + config_.device_clock_offset_ns;
+    f.host_timestamp_ns = slot.exposure_ns;
+    f.device_timestamp_ns = slot.exposure_ns + config_.device_clock_offset_ns;
     f.device_time_trusted = true;
     if (config_.generator) {
       config_.generator(f, seq);
     } else {
       write_test_pattern(f, seq);
     }
-    sleep_until(exposure_ns + delay_ns, running_);
+    sleep_until(slot.due_ns, running_);
     if (!running_.load(std::memory_order_relaxed)) break;
     frames_.publish();
     last_publish_ns_.store(monotonic_now_ns(), std::memory_order_release);

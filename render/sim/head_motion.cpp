@@ -6,9 +6,7 @@
 
 namespace hd::render {
 
-namespace {
-
-drivers::ScriptedMotion once(const SceneHead& head) {
+drivers::ScriptedMotion make_head_motion(const SceneHead& head) {
   if (!head.trajectory_csv.empty()) {
     return drivers::from_trajectory(drivers::Trajectory::load_csv(head.trajectory_csv));
   }
@@ -45,16 +43,6 @@ drivers::ScriptedMotion once(const SceneHead& head) {
     out.position_m = a.p + u * (b.p - a.p);
     out.q = a.q.slerp(u, b.q);
     return out;
-  };
-}
-
-}  // namespace
-
-drivers::ScriptedMotion make_head_motion(const SceneHead& head, double loop_period_s) {
-  drivers::ScriptedMotion motion = once(head);
-  if (!(loop_period_s > 0.0)) return motion;
-  return [motion = std::move(motion), loop_period_s](double t_s) {
-    return motion(t_s < loop_period_s ? t_s : std::fmod(t_s, loop_period_s));
   };
 }
 

@@ -8,8 +8,7 @@ namespace hd::render {
 
 /// A CSV trajectory (replayed from its first sample) or the keyframes: position linear and
 /// orientation slerped between keyframes, eased in and out (raised cosine) when `smooth`, held
-/// before the first and after the last. With `loop_period_s` > 0 the motion starts over every
-/// that many seconds (Scene::loop). Throws std::runtime_error for an unreadable CSV.
-drivers::ScriptedMotion make_head_motion(const SceneHead& head, double loop_period_s = 0.0);
+/// before the first and after the last. Throws std::runtime_error for an unreadable CSV.
+drivers::ScriptedMotion make_head_motion(const SceneHead& head);
 
 }  // namespace hd::render

@@ -58,7 +58,9 @@ Simulation::Simulation(Scene scene)
 
   drivers::MockPoseSourceConfig pc;
   pc.id = "sim:head";
-  pc.motion = make_head_motion(scene_.head, scene_.loop ? scene_.duration_s : 0.0);
+  pc.motion = [once = make_head_motion(scene_.head), scene = &scene_](double t_s) {
+    return once(motion_time_s(*scene, t_s));  // the one loop rule, as for the objects
+  };
   pc.rate_hz = scene_.head.rate_hz;
   pc.epoch_ns = epoch_hook;
   const auto tracker = std::make_shared<TrackerEffects>(scene_.effects);

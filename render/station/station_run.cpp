@@ -254,9 +254,8 @@ int run(const RunOptions& o) {
   s.camera_names = p.camera_names;
   s.camera_frames_shown = frame.frames_fetched();
   for (const auto& pipe : p.pipelines) {
-    // The pipeline's dropped count is the device's plus its own rejections.
     s.camera_frames_rejected.push_back(pipe->rejected());
-    s.camera_frames_lost.push_back(pipe->dropped_frames() - pipe->rejected());
+    s.camera_frames_lost.push_back(pipe->device_dropped_frames());
   }
   s.pose_accepted = frame.pose_history().accepted();
   s.pose_rejected = frame.pose_history().rejected() + p.head->rejected_reports();

@@ -57,6 +57,8 @@ class CameraPipeline final : public drivers::CameraSource {
   uint64_t processed() const { return processed_.load(std::memory_order_relaxed); }
   /// Frames of the wrong size or format (not published).
   uint64_t rejected() const { return rejected_.load(std::memory_order_relaxed); }
+  /// Frames the wrapped device lost (its dropped_frames(): sequence gaps, bad buffers, overruns).
+  uint64_t device_dropped_frames() const { return source_.dropped_frames(); }
   /// Frames also published to model_frames().
   uint64_t model_published() const { return model_frames_.published(); }
 
