@@ -6,8 +6,8 @@
 
 #include "core/pinhole.h"
 #include "core/pose.h"
+#include "render/overlay/guidance_cue.h"
 #include "render/overlay/hud_strip.h"
-#include "render/selection/guidance_cue.h"
 
 namespace hd::render {
 

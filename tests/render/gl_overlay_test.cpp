@@ -13,8 +13,8 @@
 
 #include "render/compositor/cpu_compositor.h"
 #include "render/gl/gl_compositor.h"
+#include "render/overlay/guidance_cue.h"
 #include "render/overlay/hud_strip.h"
-#include "render/selection/guidance_cue.h"
 #include "support/gl_vs_cpu_test.h"
 
 namespace hd::render {

@@ -17,8 +17,8 @@
 #include "render/compositor/cpu_compositor.h"
 #include "render/compositor/demo_scene.h"
 #include "render/latency/latency_recorder.h"
+#include "render/overlay/guidance_cue.h"
 #include "render/overlay/hud_strip.h"
-#include "render/selection/guidance_cue.h"
 
 namespace hd::render {
 namespace {

@@ -10,10 +10,10 @@
 #include <limits>
 #include <numbers>
 
+#include "render/overlay/guidance_cue.h"
 #include "render/overlay/hud_strip.h"
 #include "render/overlay/overlay_geometry.h"
 #include "render/overlay/overlay_painter.h"
-#include "render/selection/guidance_cue.h"
 
 namespace hd::render {
 namespace {

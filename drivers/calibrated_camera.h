@@ -1,0 +1,20 @@
+#pragma once
+// A camera as the station shows it: its device and the calibration that places its pixels in the
+// workspace (p_c, P_c) with the plane distance d of its video quad.
+
+#include "core/pinhole.h"
+#include "core/pose.h"
+#include "drivers/camera_source.h"
+
+namespace hd::drivers {
+
+/// `source` is not owned. p_c uses core::Pinhole's convention (pixel centres at +0.5); P_c is
+/// camera-to-world (X_world = R X_cam + t, t the camera centre).
+struct CalibratedCamera {
+  CameraSource* source = nullptr;
+  core::Pinhole p_c;
+  core::Pose T_world_real;
+  double d_m = 1.0;  ///< distance of the video quad's plane along the camera's z axis
+};
+
+}  // namespace hd::drivers

@@ -1,0 +1,193 @@
+// assemble_from_config: the real station (station.yaml -> drivers -> pipelines).
+#include <cmath>
+#include <cstdio>
+
+#include "calib/camera_factory.h"
+#include "drivers/hid/hid_head_tracker.h"
+#include "drivers/hid/hidapi_transport.h"
+#include "drivers/mock/mock_head_tracker_transport.h"
+#include "drivers/mock/mock_pose_source.h"
+#include "drivers/usb/usb_id.h"
+#include "sim/scene/scene_file.h"
+#include "station/app/station_parts.h"
+
+namespace hd::station {
+namespace {
+
+std::string fmt(const char* f, double a = 0, double b = 0, double c = 0, double d = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, f, a, b, c, d);
+  return buf;
+}
+
+// The mock tracker's motion (tracker frame): from the origin 0.6 m to the right while turning
+// 25 deg toward the left, and back, every 12 s -- away from a camera at the origin and back.
+drivers::TrajectorySample mock_head_motion(double t_s) {
+  const double s = 0.5 * (1.0 - std::cos(2.0 * M_PI * t_s / 12.0));
+  drivers::TrajectorySample out;
+  out.t_s = t_s;
+  out.position_m = {0.6 * s, 0.0, 0.0};
+  out.q = Eigen::Quaterniond(Eigen::AngleAxisd(25.0 * M_PI / 180.0 * s, -Eigen::Vector3d::UnitY()));
+  return out;
+}
+
+// The HID opener for a tracker id, or nullptr with `why`.
+drivers::HidTransportOpener tracker_opener(const std::string& id, std::string& what,
+                                           std::string& why) {
+  if (id == "mock") {
+    drivers::MockHeadTrackerConfig mc;
+    mc.motion = mock_head_motion;
+    what =
+        "simulated Android head tracker (HID reports through the real parser), scripted "
+        "motion 0.6 m sideways and back every 12 s";
+    return drivers::mock_head_tracker_opener(mc);
+  }
+  if (id == "hid") {
+    what = "first HID head tracker hidapi finds";
+    return drivers::hidapi_opener();
+  }
+  if (id.rfind("/dev/", 0) == 0) {
+    what = "HID head tracker at " + id;
+    return drivers::hidapi_opener(id);
+  }
+  if (auto usb = drivers::parse_usb_id(id)) {
+    for (const drivers::HidDeviceEntry& e : drivers::enumerate_hid_devices())
+      if (e.vendor_id == usb->vendor_id && e.product_id == usb->product_id) {
+        what = "HID head tracker " + id + " at " + e.path + " (" + e.product + ")";
+        return drivers::hidapi_opener(e.path);
+      }
+    why = "no HID device " + id + " is connected (`hybrid-station devices` lists what is there)";
+    return {};
+  }
+  why = "unknown tracker id '" + id + "': expected mock, hid, /dev/hidrawN or VID:PID";
+  return {};
+}
+
+// A pose source that holds the head at the tracker origin (the tracker is optional and absent).
+std::unique_ptr<drivers::PoseSource> still_head() {
+  drivers::MockPoseSourceConfig c;
+  c.id = "still-head";
+  c.rate_hz = 100.0;
+  c.motion = [](double t_s) {
+    drivers::TrajectorySample s;
+    s.t_s = t_s;
+    return s;
+  };
+  return std::make_unique<drivers::MockPoseSource>(c);
+}
+
+void add_cameras(StationParts& p, const StationConfig& config) {
+  for (const CameraConfig& cc : config.cameras) {
+    const std::string label = cc.name + " (" + cc.id + ")";
+    std::unique_ptr<drivers::CameraSource> device;
+    try {
+      device = calib::make_camera_source(cc.id);
+      // A mock's frame size is known now: a calibration for another size would be rejected
+      // frame by frame later, so say it here.
+      int w = 640, h = 480;
+      if (cc.id.rfind("mock:", 0) == 0) std::sscanf(cc.id.c_str() + 5, "%dx%d", &w, &h);
+      if (calib::camera_kind(cc.id) == calib::CameraKind::kMock &&
+          (w != cc.p_c.width || h != cc.p_c.height))
+        throw std::runtime_error(fmt("frames are %gx%g but ", w, h) + cc.calibration_file +
+                                 fmt(" is for %gx%g", cc.p_c.width, cc.p_c.height));
+    } catch (const std::exception& e) {
+      p.report.missing("camera", label, e.what(), cc.optional);
+      continue;
+    }
+    station::CameraPipelineConfig pc;
+    pc.p_c = cc.p_c;
+    pc.model_period_s = config.model.refresh_period_s;
+    auto pipe = std::make_unique<station::CameraPipeline>(*device, pc);
+    try {
+      pipe->open();
+    } catch (const std::exception& e) {
+      p.report.missing("camera", label, e.what(), cc.optional);
+      continue;
+    }
+    const Eigen::Vector3d& c = cc.T_world_cam.t;
+    p.report.opened("camera", label,
+                    fmt("%gx%g, calibration ", cc.p_c.width, cc.p_c.height) + cc.calibration_file +
+                        fmt(", centre (%.2f, %.2f, %.2f) m", c.x(), c.y(), c.z()) +
+                        fmt(", d = %g m", cc.d_m) +
+                        (pipe->undistorting() ? ", undistorted" : ", no distortion"));
+    p.cameras.push_back({pipe.get(), cc.p_c, cc.T_world_cam, cc.d_m});
+    p.camera_names.push_back(cc.name);
+    p.devices.push_back(std::move(device));
+    p.pipelines.push_back(std::move(pipe));
+  }
+}
+
+void add_tracker(StationParts& p, const StationConfig& config) {
+  const TrackerConfig& tc = config.tracker;
+  std::string what, why;
+  drivers::HidTransportOpener opener = tracker_opener(tc.id, what, why);
+  if (opener) {
+    drivers::HidHeadTrackerConfig hc;
+    hc.id = tc.id;
+    hc.opener = std::move(opener);
+    auto tracker = std::make_unique<drivers::HidHeadTracker>(std::move(hc));
+    try {
+      tracker->open();
+      p.report.opened("tracker", tc.id, what);
+      p.tracker = std::move(tracker);
+    } catch (const std::exception& e) {
+      why = e.what();
+    }
+  }
+  if (!p.tracker) {
+    p.report.missing("tracker", tc.id, why, tc.optional);
+    if (!tc.optional) return;
+    p.tracker = still_head();
+    p.tracker->open();
+    p.report.opened("tracker", p.tracker->id(), "head held at the tracker origin (no tracker)");
+  }
+  station::AlignedPoseSourceConfig ac;
+  ac.alignment.T_world_tracker = config.T_world_tracker;
+  ac.alignment.T_world_home = config.T_world_home;
+  p.head = std::make_unique<station::AlignedPoseSource>(*p.tracker, ac);
+}
+
+void add_model(StationParts& p, const StationConfig& config) {
+  if (config.model.scene_file.empty()) {
+    p.report.opened("model", "none",
+                    "no model.scene in the config: the synthetic view shows the background only");
+    return;
+  }
+  // The scene file's geometry is the a-priori model; its simulated devices are never started.
+  sim::Simulation geometry(sim::load_scene(config.model.scene_file));
+  p.model = geometry.model();
+  if (p.pipelines.empty()) {
+    p.report.opened("model", config.model.scene_file,
+                    fmt("%g meshes, never re-textured (no camera)", p.model.meshes.size()));
+    return;
+  }
+  std::vector<station::ModelCamera> mc;
+  for (std::size_t i = 0; i < p.pipelines.size(); ++i)
+    mc.push_back({&p.pipelines[i]->model_frames(), p.cameras[i].p_c, p.cameras[i].T_world_real});
+  station::ModelUpdaterConfig uc;
+  uc.refresh_period_s = config.model.refresh_period_s;
+  p.updater_clock = std::make_unique<render::MonotonicLoopClock>();
+  p.updater = std::make_unique<station::ModelUpdater>(p.model, mc, uc, *p.updater_clock);
+  p.report.opened("model", config.model.scene_file,
+                  fmt("%g meshes, re-textured from the cameras every %g s", p.model.meshes.size(),
+                      uc.refresh_period_s));
+}
+
+}  // namespace
+
+std::unique_ptr<StationParts> assemble_from_config(const StationConfig& config,
+                                                   const RunOptions& o) {
+  auto p = std::make_unique<StationParts>();
+  p->source_kind = "config";
+  p->source_file = config.file;
+  p->default_seconds = o.headless ? 10.0 : 0.0;
+  add_cameras(*p, config);
+  add_tracker(*p, config);
+  add_model(*p, config);
+  p->report.note("config", config.file);
+  configure_frame(*p, config.display, config.transition, config.marking, config.workspace,
+                  config.predictor, o);
+  return p;
+}
+
+}  // namespace hd::station

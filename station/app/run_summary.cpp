@@ -1,0 +1,109 @@
+#include "station/app/run_summary.h"
+
+#include <cinttypes>
+#include <nlohmann/json.hpp>
+
+#include "station/app/output_file.h"
+
+namespace hd::station {
+namespace {
+
+void line(std::FILE* out, const char* name, const render::LatencyStats& s) {
+  if (s.count == 0) {
+    std::fprintf(out, "  %-24s (no frames)\n", name);
+    return;
+  }
+  std::fprintf(out, "  %-24s p50 %7.2f  p95 %7.2f  p99 %7.2f  max %7.2f ms  (%zu frames)\n", name,
+               s.p50_ms, s.p95_ms, s.p99_ms, s.max_ms, s.count);
+}
+
+nlohmann::json stats_json(const render::LatencyStats& s) {
+  return {{"count", s.count},   {"p50_ms", s.p50_ms}, {"p95_ms", s.p95_ms},
+          {"p99_ms", s.p99_ms}, {"max_ms", s.max_ms}, {"mean_ms", s.mean_ms}};
+}
+
+}  // namespace
+
+void print_summary(const RunSummary& s, std::FILE* out) {
+  std::fprintf(out, "summary (%s)\n", s.source.c_str());
+  std::fprintf(out,
+               "  frames %" PRIu64 " in %.1f s at %.1f Hz; missed deadlines %" PRIu64
+               " (%.2f %%), skipped slots %" PRIu64 "\n",
+               s.frames, s.seconds, s.rate_hz, s.missed_deadlines, 100.0 * s.missed_rate(),
+               s.skipped_slots);
+  line(out, "motion-to-photon swap", s.mtp_swap);
+  line(out, "motion-to-photon display", s.mtp_display);
+  line(out, "video age", s.video_age);
+  line(out, "model age", s.model_age);
+  line(out, "render (draw)", s.render);
+  std::fprintf(out,
+               "  variants: video %" PRIu64 ", hybrid %" PRIu64 ", synthetic %" PRIu64
+               " frames; guidance shown %" PRIu64 " frames; camera switches %" PRIu64 "\n",
+               s.variant_frames[0], s.variant_frames[1], s.variant_frames[2], s.guidance_frames,
+               s.camera_switches);
+  for (std::size_t i = 0; i < s.camera_names.size(); ++i)
+    std::fprintf(out,
+                 "  camera %-20s new frames shown %" PRIu64 ", lost by the device %" PRIu64
+                 ", rejected %" PRIu64 "\n",
+                 s.camera_names[i].c_str(), s.camera_frames_shown[i], s.camera_frames_lost[i],
+                 s.camera_frames_rejected[i]);
+  std::fprintf(out,
+               "  head samples accepted %" PRIu64 ", rejected %" PRIu64 "; re-centres %" PRIu64
+               ", tracker resets %" PRIu64 "; model updates %" PRIu64 "\n",
+               s.pose_accepted, s.pose_rejected, s.recentres, s.tracker_resets, s.model_updates);
+  std::fprintf(out, "  render-thread allocations after %" PRIu64 " warm-up frames: %" PRIu64 "\n",
+               s.warmup_frames, s.allocations_after_warmup);
+  std::fprintf(out,
+               "  recorded: video %" PRIu64 " frames, PNG %" PRIu64 " frames, %" PRIu64
+               " frames not taken by the writer; frames.csv %" PRIu64 " rows (%" PRIu64
+               " beyond its capacity)\n",
+               s.video_frames, s.png_frames, s.recorder_dropped, s.log_rows, s.log_rows_dropped);
+  if (!s.recorder_error.empty())
+    std::fprintf(out, "  recorder error: %s\n", s.recorder_error.c_str());
+  for (const std::string& o : s.outputs) std::fprintf(out, "  wrote %s\n", o.c_str());
+  std::fflush(out);
+}
+
+void write_summary_json(const RunSummary& s, const std::string& path) {
+  nlohmann::json j;
+  j["source"] = s.source;
+  j["frames"] = s.frames;
+  j["seconds"] = s.seconds;
+  j["rate_hz"] = s.rate_hz;
+  j["missed_deadlines"] = s.missed_deadlines;
+  j["missed_deadline_rate"] = s.missed_rate();
+  j["skipped_slots"] = s.skipped_slots;
+  j["latency"] = {{"motion_to_photon_swap", stats_json(s.mtp_swap)},
+                  {"motion_to_photon_display", stats_json(s.mtp_display)},
+                  {"video_age", stats_json(s.video_age)},
+                  {"model_age", stats_json(s.model_age)},
+                  {"render", stats_json(s.render)}};
+  j["variant_frames"] = {{"video", s.variant_frames[0]},
+                         {"hybrid", s.variant_frames[1]},
+                         {"synthetic", s.variant_frames[2]}};
+  j["guidance_frames"] = s.guidance_frames;
+  j["camera_switches"] = s.camera_switches;
+  nlohmann::json cams = nlohmann::json::array();
+  for (std::size_t i = 0; i < s.camera_names.size(); ++i)
+    cams.push_back({{"name", s.camera_names[i]},
+                    {"frames_shown", s.camera_frames_shown[i]},
+                    {"frames_lost", s.camera_frames_lost[i]},
+                    {"frames_rejected", s.camera_frames_rejected[i]}});
+  j["cameras"] = cams;
+  j["head"] = {{"accepted", s.pose_accepted},
+               {"rejected", s.pose_rejected},
+               {"recentres", s.recentres},
+               {"tracker_resets", s.tracker_resets}};
+  j["model_updates"] = s.model_updates;
+  j["allocations_after_warmup"] = s.allocations_after_warmup;
+  j["warmup_frames"] = s.warmup_frames;
+  j["frames_csv_rows"] = s.log_rows;
+  j["frames_csv_rows_dropped"] = s.log_rows_dropped;
+  j["video_frames"] = s.video_frames;
+  j["png_frames"] = s.png_frames;
+  j["recorder_dropped"] = s.recorder_dropped;
+  j["recorder_error"] = s.recorder_error;
+  write_text_atomically(j.dump(1) + "\n", path);
+}
+
+}  // namespace hd::station

@@ -1,0 +1,126 @@
+// assemble_from_scene: the simulated station (scene file -> Simulation -> mock devices).
+#include <cstdio>
+
+#include "station/app/station_parts.h"
+
+namespace hd::station {
+namespace {
+
+std::string fmt(const char* f, double a = 0, double b = 0, double c = 0, double d = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, f, a, b, c, d);
+  return buf;
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
+  return s.empty() ? "none" : s;
+}
+
+}  // namespace
+
+std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOptions& o) {
+  auto p = std::make_unique<StationParts>();
+  p->source_kind = "scene";
+  p->source_file = scene.file;
+  p->default_seconds = scene.duration_s;
+
+  DisplayConfig display;
+  display.eye = core::Pinhole::centred(0.9 * scene.station.eye_width.value_or(480),
+                                       scene.station.eye_width.value_or(480),
+                                       scene.station.eye_height.value_or(400));
+  core::TransitionParams transition;
+  if (scene.station.m_t) transition.m_t = *scene.station.m_t;
+  if (scene.station.eps) transition.eps = *scene.station.eps;
+  core::MarkingParams marking;
+  marking.style = core::MarkingStyle::kFrame;  // the variant visible at a glance in the outputs
+  const core::WorkspaceBox workspace = scene.workspace;
+  const std::vector<std::string> effects = scene.effects.names();
+  const std::string scene_name = scene.name;
+  const double duration_s = scene.duration_s;
+  const bool looped = scene.loop;
+
+  p->simulation = std::make_unique<sim::Simulation>(std::move(scene));
+  sim::Simulation& sim = *p->simulation;
+  const auto& staleness = sim.model_staleness();
+
+  // Cameras: each simulated device through the station's pipeline, as a real one would be.
+  const std::vector<drivers::CalibratedCamera> sim_cams = sim.station_cameras();
+  for (std::size_t i = 0; i < sim_cams.size(); ++i) {
+    const sim::SceneCamera& sc = sim.scene().cameras[i];
+    station::CameraPipelineConfig pc;
+    pc.p_c = sim_cams[i].p_c;
+    pc.model_period_s = staleness ? staleness->period_s : 1.0;
+    auto pipe = std::make_unique<station::CameraPipeline>(*sim_cams[i].source, pc);
+    const std::string id = sim_cams[i].source->id();
+    try {
+      pipe->open();
+    } catch (const std::exception& e) {
+      p->report.missing("camera", id, e.what(), false);
+      continue;
+    }
+    const Eigen::Vector3d& c = sim_cams[i].T_world_real.t;
+    p->report.opened(
+        "camera", id,
+        fmt("simulated %gx%g RGBA8 at %g Hz, ", pc.p_c.width, pc.p_c.height, sc.rate_hz) +
+            fmt("centre (%.2f, %.2f, %.2f) m, d = %g m", c.x(), c.y(), c.z(), sim_cams[i].d_m) +
+            (pipe->undistorting() ? ", undistorted by the pipeline" : "") +
+            (sc.calibration_file.empty() ? "" : ", calibration " + sc.calibration_file));
+    drivers::CalibratedCamera cam = sim_cams[i];
+    cam.source = pipe.get();
+    p->cameras.push_back(cam);
+    p->camera_names.push_back(id);
+    p->pipelines.push_back(std::move(pipe));
+  }
+
+  // Head: the scene's tracker frame is the workspace; re-centre brings the head back to where
+  // the scene's motion starts.
+  station::AlignedPoseSourceConfig ac;
+  ac.alignment.T_world_home = sim.head_sample(0.0, 0).T_tracker_head;
+  p->head = std::make_unique<station::AlignedPoseSource>(sim.head(), ac);
+  try {
+    p->head->open();
+    p->report.opened("tracker", sim.head().id(),
+                     fmt("simulated head, %g Hz, ", sim.scene().head.rate_hz) +
+                         (sim.scene().head.trajectory_csv.empty()
+                              ? fmt("%g scripted keyframes", sim.scene().head.keyframes.size())
+                              : "trajectory " + sim.scene().head.trajectory_csv) +
+                         "; R re-centres on its start pose");
+  } catch (const std::exception& e) {
+    p->report.missing("tracker", sim.head().id(), e.what(), false);
+  }
+
+  // Model: the scene's geometry; re-textured from the cameras with the staleness the scene sets.
+  p->model = sim.model();
+  if (staleness && !p->pipelines.empty()) {
+    std::vector<station::ModelCamera> mc;
+    for (std::size_t i = 0; i < p->pipelines.size(); ++i)
+      mc.push_back(
+          {&p->pipelines[i]->model_frames(), p->cameras[i].p_c, p->cameras[i].T_world_real});
+    station::ModelUpdaterConfig uc;
+    uc.refresh_period_s = staleness->period_s;
+    uc.delay_s = staleness->delay_s;
+    uc.move_objects = [&sim](render::SyntheticScene& m, int64_t capture_ns) {
+      sim.place_objects(m, sim.scene_time_s(capture_ns));
+    };
+    p->updater_clock = std::make_unique<render::MonotonicLoopClock>();
+    p->updater = std::make_unique<station::ModelUpdater>(p->model, mc, uc, *p->updater_clock);
+    p->report.opened("model", "scene geometry",
+                     fmt("%g meshes, re-textured from the cameras every %g s with %g s delay",
+                         p->model.meshes.size(), staleness->period_s, staleness->delay_s));
+  } else {
+    p->report.opened("model", "scene geometry",
+                     fmt("%g meshes as the scene defines them (no model_staleness effect: never "
+                         "re-textured)",
+                         p->model.meshes.size()));
+  }
+
+  p->report.note("scene", p->source_file + " (" + scene_name + ", " + fmt("%g s", duration_s) +
+                              (looped ? ", motion looped" : "") + ")");
+  p->report.note("effects", join(effects));
+  configure_frame(*p, display, transition, marking, workspace, "kalman", o);
+  return p;
+}
+
+}  // namespace hd::station

@@ -1,0 +1,193 @@
+#include "station/app/station_config.h"
+
+#include <filesystem>
+
+#include "calib/calibration_file.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/yaml_fields.h"
+
+namespace hd::station {
+namespace {
+
+using sim::Range;
+using sim::YamlFields;
+
+// `{position_m: [x, y, z], ypr_deg: [yaw, pitch, roll]}`, the scene files' convention.
+core::Pose read_pose(const sim::YamlFields& f) {
+  core::Pose p;
+  p.t = f.optional_vec3("position_m", Eigen::Vector3d::Zero());
+  p.R = sim::rotation_from_ypr_deg(
+      f.optional_vec3("ypr_deg", Eigen::Vector3d::Zero(), Range::closed(-360.0, 360.0)));
+  f.finish();
+  return p;
+}
+
+CameraConfig read_camera(const sim::YamlFields& f, std::size_t index) {
+  CameraConfig c;
+  c.line = f.line();
+  c.name = f.optional_string("name", "camera" + std::to_string(index));
+  c.id = f.required_string("id");
+  if (c.id.empty()) f.fail("id", "empty; expected /dev/videoN, a GigE id or mock[:WxH]");
+  c.calibration_file = f.required_path("calibration");
+  c.d_m = f.required_double("d_m", Range::positive());
+  c.optional = f.optional_bool("optional", false);
+  std::optional<core::Pose> pose_override;
+  if (auto p = f.optional_map("pose")) pose_override = read_pose(*p);
+  f.finish();
+
+  calib::CalibrationFile cal;
+  try {
+    cal = calib::read_calibration_file(c.calibration_file);
+  } catch (const calib::CalibrationFileError& e) {
+    f.fail("calibration", e.what());
+  }
+  c.p_c = cal.pinhole;
+  if (pose_override)
+    c.T_world_cam = *pose_override;
+  else if (cal.camera_pose)
+    c.T_world_cam = *cal.camera_pose;
+  else
+    f.fail("calibration", c.calibration_file +
+                              " has no camera pose (run `hybrid-calib pose`) and no pose: is "
+                              "given here");
+  return c;
+}
+
+TrackerConfig read_tracker(const sim::YamlFields& f) {
+  TrackerConfig t;
+  t.line = f.line();
+  t.id = f.required_string("id");
+  if (t.id.empty()) f.fail("id", "empty; expected mock, hid, /dev/hidrawN or VID:PID");
+  t.optional = f.optional_bool("optional", false);
+  f.finish();
+  return t;
+}
+
+DisplayConfig read_display(const sim::YamlFields& f) {
+  DisplayConfig d;
+  d.monitor = f.optional_int("monitor", -1, Range::closed(-1, 16));
+  d.fullscreen = f.optional_bool("fullscreen", false);
+  if (d.fullscreen && d.monitor < 0) d.monitor = 0;
+  d.stereo = f.optional_bool("stereo", true);
+  d.ipd_m = f.optional_double("ipd_m", 0.064, Range::half_open(0.0, 0.2));
+  if (d.stereo && d.ipd_m <= 0.0) f.fail("ipd_m", "must be > 0 for a stereo display");
+  d.rate_hz = f.optional_double("rate_hz", 90.0, Range::closed(1.0, 1000.0));
+  d.scanout_ms = f.optional_double("scanout_ms", 2.0, Range::closed(0.0, 100.0));
+  int w = 480, h = 400;
+  double fx = 0.0, fy = 0.0, cx = 0.0, cy = 0.0;
+  if (auto e = f.optional_map("eye")) {
+    w = e->optional_int("width", w, Range::closed(16, 8192));
+    h = e->optional_int("height", h, Range::closed(16, 8192));
+    fx = e->optional_double("fx", 0.9 * w, Range::positive());
+    fy = e->optional_double("fy", fx, Range::positive());
+    cx = e->optional_double("cx", w / 2.0, Range::closed(0.0, w));
+    cy = e->optional_double("cy", h / 2.0, Range::closed(0.0, h));
+    e->finish();
+  } else {
+    fx = fy = 0.9 * w;
+    cx = w / 2.0;
+    cy = h / 2.0;
+  }
+  d.eye = core::Pinhole::centred(fx, w, h);
+  d.eye.fy = fy;
+  d.eye.cx = cx;
+  d.eye.cy = cy;
+  f.finish();
+  return d;
+}
+
+core::TransitionParams read_transition(const sim::YamlFields& f) {
+  core::TransitionParams t;
+  t.mode = static_cast<core::TransitionMode>(
+      f.optional_enum("mode", transition_mode_names(), static_cast<std::size_t>(t.mode)));
+  t.m_t = f.optional_double("m_t", t.m_t, Range::positive());
+  t.eps = f.optional_double("eps", t.eps, Range::non_negative());
+  t.hysteresis = f.optional_double("hysteresis", t.hysteresis, Range::non_negative());
+  t.time_constant_s =
+      f.optional_double("time_constant_s", t.time_constant_s, Range::closed(0.0, 10.0));
+  f.finish();
+  return t;
+}
+
+core::MarkingParams read_marking(const sim::YamlFields& f) {
+  core::MarkingParams m;
+  m.style = static_cast<core::MarkingStyle>(
+      f.optional_enum("style", marking_style_names(), static_cast<std::size_t>(m.style)));
+  m.frame_width_px = f.optional_int("frame_width_px", m.frame_width_px, Range::closed(1, 256));
+  m.synthetic_desaturation = f.optional_double("synthetic_desaturation", m.synthetic_desaturation,
+                                               Range::closed(0.0, 1.0));
+  m.checker_cell_px = f.optional_int("checker_cell_px", m.checker_cell_px, Range::closed(1, 1024));
+  m.checker_contrast =
+      f.optional_double("checker_contrast", m.checker_contrast, Range::closed(0.0, 1.0));
+  f.finish();
+  return m;
+}
+
+core::WorkspaceBox read_workspace(const sim::YamlFields& f) {
+  core::WorkspaceBox w;
+  w.min_m = f.required_vec3("min_m");
+  w.max_m = f.required_vec3("max_m");
+  if (!w.valid()) f.fail("max_m", "must be >= min_m on every axis");
+  f.finish();
+  return w;
+}
+
+StationConfig read_station(const sim::YamlFields& root) {
+  StationConfig s;
+  s.file = root.file();
+  const std::vector<sim::YamlFields> cams = root.required_list("cameras", 1);
+  for (std::size_t i = 0; i < cams.size(); ++i) s.cameras.push_back(read_camera(cams[i], i));
+  s.tracker = read_tracker(root.required_map("tracker"));
+  if (auto d = root.optional_map("display")) s.display = read_display(*d);
+  if (auto t = root.optional_map("transition")) s.transition = read_transition(*t);
+  if (auto m = root.optional_map("marking")) s.marking = read_marking(*m);
+  s.workspace = read_workspace(root.required_map("workspace"));
+  if (auto t = root.optional_map("tracker_to_workspace")) s.T_world_tracker = read_pose(*t);
+  if (auto h = root.optional_map("home_pose")) s.T_world_home = read_pose(*h);
+  if (auto m = root.optional_map("model")) {
+    if (auto p = m->optional_path("scene")) {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(*p, ec)) m->fail("scene", "no such file: " + *p);
+      s.model.scene_file = *p;
+    }
+    s.model.refresh_period_s =
+        m->optional_double("refresh_period_s", s.model.refresh_period_s, Range::positive());
+    m->finish();
+  }
+  static const std::vector<std::string> predictors{"none", "cv", "kalman"};
+  s.predictor = predictors[root.optional_enum("predictor", predictors, 2)];
+  root.finish();
+  return s;
+}
+
+}  // namespace
+
+const std::vector<std::string>& transition_mode_names() {
+  // Order = core::TransitionMode.
+  static const std::vector<std::string> names{"abrupt", "global_blend", "per_pixel"};
+  return names;
+}
+
+const std::vector<std::string>& marking_style_names() {
+  // Order = core::MarkingStyle.
+  static const std::vector<std::string> names{"none", "frame", "desaturate", "checker"};
+  return names;
+}
+
+const char* transition_mode_name(core::TransitionMode mode) {
+  return transition_mode_names()[static_cast<std::size_t>(mode)].c_str();
+}
+
+const char* marking_style_name(core::MarkingStyle style) {
+  return marking_style_names()[static_cast<std::size_t>(style)].c_str();
+}
+
+StationConfig load_station_config(const std::string& path) {
+  return read_station(sim::load_yaml_fields(path));
+}
+
+StationConfig parse_station_config(const std::string& text, const std::string& name) {
+  return read_station(sim::YamlFields(sim::parse_yaml(text, name), name));
+}
+
+}  // namespace hd::station

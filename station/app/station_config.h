@@ -1,0 +1,86 @@
+#pragma once
+// station.yaml: the real station's devices and parameters (format: docs/station.md).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/marking.h"
+#include "core/pinhole.h"
+#include "core/pose.h"
+#include "core/transition.h"
+#include "core/workspace_box.h"
+#include "sim/scene/config_error.h"
+
+namespace hd::station {
+
+/// One camera: the driver id (as hybrid-calib's camera factory takes it: /dev/videoN, a GigE id,
+/// mock[:WxH]), its calibration from hybrid-calib (p_c with distortion, and P_c unless `pose`
+/// overrides it) and the plane distance d.
+struct CameraConfig {
+  std::string name;              ///< for reports ("camera0" when not given)
+  std::string id;                ///< driver id
+  std::string calibration_file;  ///< resolved against the config file's directory
+  core::Pinhole p_c;             ///< read from the calibration file
+  core::Pose T_world_cam;        ///< from the calibration file, or `pose:` in station.yaml
+  double d_m = 1.0;
+  bool optional = false;  ///< a camera that cannot be opened is skipped instead of fatal
+  int line = 0;           ///< where it is in station.yaml, for messages
+};
+
+/// The head tracker: "mock" (a simulated Android head tracker behind the real HID parser),
+/// "hid" (the first head tracker hidapi finds), a hidraw path (/dev/hidrawN) or a USB id
+/// VID:PID in hex as lsusb prints it.
+struct TrackerConfig {
+  std::string id = "hid";
+  bool optional = false;  ///< without a tracker the head stays at the home pose
+  int line = 0;
+};
+
+/// Where the picture goes: a window (or fullscreen on monitor N, e.g. the HMD) with one eye
+/// (monitor) or two (HMD).
+struct DisplayConfig {
+  int monitor = -1;  ///< >= 0 with fullscreen: that monitor
+  bool fullscreen = false;
+  bool stereo = true;
+  double ipd_m = 0.064;
+  core::Pinhole eye = core::Pinhole::centred(0.9 * 480, 480, 400);  ///< p_o per eye
+  double rate_hz = 90.0;
+  double scanout_ms = 2.0;
+};
+
+struct ModelConfig {
+  std::string scene_file;  ///< a scene file whose geometry is the a-priori model ("" = none)
+  double refresh_period_s = 1.0;
+};
+
+struct StationConfig {
+  std::string file;
+  std::vector<CameraConfig> cameras;
+  TrackerConfig tracker;
+  DisplayConfig display;
+  core::TransitionParams transition;
+  core::MarkingParams marking;
+  core::WorkspaceBox workspace;
+  core::Pose T_world_tracker;  ///< tracker frame -> workspace
+  core::Pose T_world_home;     ///< where the re-centre key puts the head
+  ModelConfig model;
+  std::string predictor = "kalman";  ///< none | cv | kalman
+};
+
+/// Reads and checks `path`. Any mistake -- YAML syntax, a missing or unknown key, a wrong type,
+/// an out-of-range value, a bad enum, a missing or unreadable calibration file -- throws
+/// sim::ConfigError naming the file, the line and the field.
+StationConfig load_station_config(const std::string& path);
+
+/// The same from text; `name` stands for the file in messages, relative paths resolve against
+/// its directory.
+StationConfig parse_station_config(const std::string& text, const std::string& name);
+
+/// Enum spellings (the same in station.yaml and on the command line).
+const std::vector<std::string>& transition_mode_names();  ///< abrupt, global_blend, per_pixel
+const std::vector<std::string>& marking_style_names();    ///< none, frame, desaturate, checker
+const char* transition_mode_name(core::TransitionMode mode);
+const char* marking_style_name(core::MarkingStyle style);
+
+}  // namespace hd::station

@@ -1,0 +1,98 @@
+#include "station/app/station_parts.h"
+
+#include <cstdio>
+
+namespace hd::station {
+namespace {
+
+std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+}  // namespace
+
+StationParts::~StationParts() {
+  stop();
+}
+
+void StationParts::start() {
+  if (started_) return;
+  started_ = true;
+  for (auto& p : pipelines) p->start();
+  if (head) head->start();
+  if (updater) updater->start();
+}
+
+void StationParts::stop() {
+  if (!started_) return;
+  started_ = false;
+  if (updater) updater->stop();
+  if (head) head->stop();
+  for (auto& p : pipelines) p->stop();
+}
+
+void configure_frame(StationParts& p, DisplayConfig display, core::TransitionParams transition,
+                     core::MarkingParams marking, const core::WorkspaceBox& workspace,
+                     const std::string& predictor, const RunOptions& o) {
+  if (o.eye_width > 0 || o.eye_height > 0) {
+    const int w = o.eye_width > 0 ? o.eye_width : display.eye.width;
+    const int h = o.eye_height > 0 ? o.eye_height : display.eye.height;
+    // Keep the field of view: scale the focal lengths with the width.
+    const double s = static_cast<double>(w) / display.eye.width;
+    display.eye = core::Pinhole::centred(display.eye.fx * s, w, h);
+  }
+  if (o.mono) display.stereo = false;
+  if (o.rate_hz > 0.0) display.rate_hz = o.rate_hz;
+  if (o.scanout_ms >= 0.0) display.scanout_ms = o.scanout_ms;
+  if (o.m_t >= 0.0) transition.m_t = o.m_t;
+  if (o.eps >= 0.0) transition.eps = o.eps;
+  if (!o.transition_mode.empty())
+    for (std::size_t i = 0; i < transition_mode_names().size(); ++i)
+      if (transition_mode_names()[i] == o.transition_mode)
+        transition.mode = static_cast<core::TransitionMode>(i);
+  if (!o.marking.empty())
+    for (std::size_t i = 0; i < marking_style_names().size(); ++i)
+      if (marking_style_names()[i] == o.marking) marking.style = static_cast<core::MarkingStyle>(i);
+
+  station::StationFrameConfig& c = p.frame_config;
+  c.rig = display.stereo ? render::StereoRig{} : render::StereoRig::monitor(display.eye);
+  if (display.stereo) {
+    c.rig.eye = {display.eye, display.eye};
+    c.rig.ipd_m = display.ipd_m;
+  }
+  c.workspace = workspace;
+  c.transition = transition;
+  c.marking = marking;
+  // The head arrives already in the workspace frame (AlignedPoseSource).
+  c.T_world_tracker = core::Pose::identity();
+  // The run logs frames itself (FrameLog, touched up front); StationFrame keeps none.
+  c.max_rows = 0;
+  p.rate_hz = display.rate_hz;
+  p.scanout_ms = display.scanout_ms;
+  p.predictor = o.predictor.empty() ? predictor : o.predictor;
+  p.monitor = display.monitor;
+
+  p.report.note("eyes",
+                display.stereo
+                    ? fmt("stereo, %gx%g px per eye, IPD %g mm", display.eye.width,
+                          display.eye.height, display.ipd_m * 1e3)
+                    : fmt("monitor (one eye), %gx%g px", display.eye.width, display.eye.height));
+  p.report.note("eye intrinsics", fmt("fx %.1f fy %.1f", display.eye.fx, display.eye.fy) +
+                                      fmt(" cx %.1f cy %.1f", display.eye.cx, display.eye.cy));
+  p.report.note("transition", std::string(transition_mode_name(transition.mode)) +
+                                  fmt(", m_t %g px, eps %g px", transition.m_t, transition.eps) +
+                                  fmt(", hysteresis %g px, time constant %g s",
+                                      transition.hysteresis, transition.time_constant_s));
+  p.report.note("marking", marking_style_name(marking.style));
+  p.report.note("workspace", fmt("min (%g, %g, %g) m", workspace.min_m.x(), workspace.min_m.y(),
+                                 workspace.min_m.z()) +
+                                 fmt(" max (%g, %g, %g) m", workspace.max_m.x(),
+                                     workspace.max_m.y(), workspace.max_m.z()));
+  p.report.note(
+      "loop",
+      fmt("%g Hz, scan-out %g ms, predictor ", display.rate_hz, display.scanout_ms) + p.predictor);
+}
+
+}  // namespace hd::station

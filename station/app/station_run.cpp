@@ -1,0 +1,314 @@
+#include "station/app/station_run.h"
+
+#define GLFW_INCLUDE_NONE  // epoxy provides the GL declarations
+#include <GLFW/glfw3.h>
+
+#include <atomic>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "calib/camera_factory.h"
+#include "core/allocation_counter.h"
+#include "render/compositor/cpu_compositor.h"
+#include "render/gl/gl_compositor.h"
+#include "render/latency/latency_recorder.h"
+#include "render/loop/frame_loop.h"
+#include "sim/scene/scene_file.h"
+#include "station/app/contact_sheet.h"
+#include "station/app/frame_log.h"
+#include "station/app/frame_recorder.h"
+#include "station/app/frames_csv.h"
+#include "station/app/run_progress.h"
+#include "station/app/run_summary.h"
+#include "station/app/run_work.h"
+#include "station/app/scene_locator.h"
+#include "station/app/station_parts.h"
+#include "station/app/trace_plot.h"
+#include "station/prediction/constant_velocity_predictor.h"
+#include "station/prediction/kalman_predictor.h"
+
+namespace hd::station {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_interrupt(int) {
+  g_interrupted.store(true);
+}
+
+// Window keys, polled between frames (edge-triggered).
+class KeyPoller {
+ public:
+  explicit KeyPoller(GLFWwindow* w) : window_(w) {}
+  bool pressed(int key) {
+    const bool down = glfwGetKey(window_, key) == GLFW_PRESS;
+    bool& was = down_[key & 511];
+    const bool edge = down && !was;
+    was = down;
+    return edge;
+  }
+
+ private:
+  GLFWwindow* window_;
+  bool down_[512] = {};
+};
+
+std::unique_ptr<station::PosePredictor> make_predictor(const std::string& name) {
+  if (name == "none") return std::make_unique<station::HoldPredictor>();
+  if (name == "cv") return std::make_unique<station::ConstantVelocityPredictor>();
+  return std::make_unique<station::KalmanPredictor>();
+}
+
+// The first frames would otherwise show the tracker origin (the predictor has nothing yet), not
+// the operator's head. Cameras are not waited for: a frame without video is honestly synthetic.
+void wait_for_first_head_sample(drivers::PoseSource& head, render::LoopClock& clock) {
+  constexpr int64_t kPatience_ns = 2'000'000'000;
+  const int64_t start = clock.now_ns();
+  while (head.latest().published() == 0 && !g_interrupted.load()) {
+    if (clock.now_ns() - start > kPatience_ns) {
+      std::printf("  note: no head sample from %s after 2 s: frames start at the tracker origin\n",
+                  head.id().c_str());
+      std::fflush(stdout);
+      return;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+std::unique_ptr<StationParts> assemble(const RunOptions& o) {
+  if (!o.config_path.empty()) {
+    std::printf("hybrid-station run: station config %s (real devices)\n", o.config_path.c_str());
+    return assemble_from_config(load_station_config(o.config_path), o);
+  }
+  std::string scene_path = o.scene_path;
+  if (scene_path.empty()) {
+    const LocatedFile f = locate_default_scene();
+    std::printf("hybrid-station run: no --scene or --config: default scene %s (found in the %s)\n",
+                f.path.c_str(), f.how.c_str());
+    scene_path = f.path;
+  } else {
+    std::printf("hybrid-station run: scene %s (simulated devices)\n", scene_path.c_str());
+  }
+  sim::Scene scene = sim::load_scene(scene_path);
+  if (o.loop) scene.loop = true;
+  return assemble_from_scene(std::move(scene), o);
+}
+
+int run(const RunOptions& o) {
+  namespace fs = std::filesystem;
+  std::unique_ptr<StationParts> parts = assemble(o);
+  StationParts& p = *parts;
+  p.report.print(stdout);
+  if (p.report.fatal()) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "hybrid-station run: cannot start: %s\n",
+                 p.report.missing_summary().c_str());
+    return 3;
+  }
+  if (p.cameras.empty()) std::printf("  note: no camera is usable: every frame is synthetic\n");
+
+  std::error_code ec;
+  fs::create_directories(o.out_dir, ec);
+  if (!fs::is_directory(o.out_dir, ec)) {
+    std::fprintf(stderr, "hybrid-station run: --out %s: cannot create the directory\n",
+                 o.out_dir.c_str());
+    return 1;
+  }
+
+  // Run length, and everything sized by it.
+  const double seconds = o.frames ? 0.0 : (o.seconds > 0.0 ? o.seconds : p.default_seconds);
+  const double expected_frames =
+      o.frames ? static_cast<double>(o.frames)
+               : (seconds > 0.0 ? seconds * p.rate_hz * 1.05 + 16.0 : 3600.0 * p.rate_hz);
+  const std::size_t log_rows =
+      std::min<std::size_t>(o.max_log_rows, static_cast<std::size_t>(expected_frames));
+  p.frame_config.max_rows = 0;
+
+  const bool windowed = !o.headless;
+  std::unique_ptr<render::Compositor> compositor;
+  render::GlCompositor* gl = nullptr;
+  std::string compositor_name;
+  if (o.gl || windowed) {
+    render::gl::WindowOptions wo;
+    wo.width = p.frame_config.rig.output_width();
+    wo.height = p.frame_config.rig.output_height();
+    wo.headless = o.headless;
+    wo.monitor = windowed ? p.monitor : -1;
+    std::unique_ptr<render::GlCompositor> glc;
+    try {
+      glc = std::make_unique<render::GlCompositor>(wo);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(std::string(e.what()) +
+                               (windowed ? " (without a display, pass --headless)" : ""));
+    }
+    compositor_name = "OpenGL (" + glc->renderer() + ", " + glc->version() + ")";
+    gl = glc.get();
+    compositor = std::move(glc);
+  } else {
+    compositor = std::make_unique<render::CpuCompositor>(o.threads);
+    compositor_name = "CPU reference (" + std::to_string(o.threads) + " thread(s))";
+  }
+  std::printf("  compositor       %s, %s\n", compositor_name.c_str(),
+              windowed ? (p.monitor >= 0 ? "fullscreen" : "windowed; keys: R re-centre, Esc/Q quit")
+                       : "headless");
+  if (o.frames)
+    std::printf("  run              %" PRIu64 " frames\n", o.frames);
+  else if (seconds > 0.0)
+    std::printf("  run              %.1f s\n", seconds);
+  else
+    std::printf("  run              until Esc/Q (or Ctrl-C)\n");
+  std::printf("  outputs          %s/\n", o.out_dir.c_str());
+  std::fflush(stdout);
+
+  std::unique_ptr<station::PosePredictor> predictor = make_predictor(p.predictor);
+  render::MonotonicLoopClock clock;
+  render::LatencyRecorder latency(log_rows);
+  station::StationFrame frame(p.frame_config, p.cameras, *p.head, *predictor, *compositor, &p.model,
+                              clock, latency);
+  if (p.updater) frame.set_model_updater(p.updater.get());
+  FrameLog log(log_rows);
+  const int width = p.frame_config.rig.output_width();
+  ThumbnailSet thumbs(96, std::min(width, 320), width, p.frame_config.rig.output_height(),
+                      std::max<uint64_t>(1, static_cast<uint64_t>(expected_frames / 96.0)));
+  FrameRecorderOptions ro;
+  ro.video_path = o.video_path;
+  ro.video_fps = p.rate_hz;
+  ro.png_every = o.png_every;
+  ro.png_dir = o.out_dir;
+  ro.thumbnails = &thumbs;
+  FrameRecorder recorder(width, p.frame_config.rig.output_height(), ro);
+  RunWork work(frame, latency, log, recorder, o.warmup);
+  render::FrameLoop loop(
+      render::FrameLoopConfig{p.rate_hz, static_cast<int64_t>(p.scanout_ms * 1e6), true}, clock);
+
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+  std::unique_ptr<KeyPoller> keys;
+  if (gl && windowed) keys = std::make_unique<KeyPoller>(gl->window().handle());
+
+  core::reset_counted_allocations();
+  p.start();
+  wait_for_first_head_sample(*p.head, clock);
+  const int64_t start_ns = clock.now_ns();
+  int64_t next_hud_ns = start_ns;
+  std::string hud;
+  RunProgress progress(o.progress_s, stdout, start_ns);
+  for (;;) {
+    if (o.frames && loop.frames() >= o.frames) break;
+    if (!o.frames && seconds > 0.0 &&
+        clock.now_ns() - start_ns >= static_cast<int64_t>(seconds * 1e9))
+      break;
+    if (g_interrupted.load()) break;
+    loop.tick(work);
+    // Between frames, outside the counted tick: progress, the HUD text (OpenCV may allocate), the
+    // keys.
+    const int64_t now = clock.now_ns();
+    progress.frame_done(frame.last_row().variant, loop.frames(), loop.missed_deadlines(), now);
+    if (now >= next_hud_ns) {
+      next_hud_ns = now + 500'000'000;
+      const station::FrameRow& r = frame.last_row();
+      hud.assign(variant_name(r.variant));
+      hud += "  ";
+      hud.append(latency.hud_line());
+      frame.set_hud_text(hud);
+    }
+    if (keys) {
+      gl->window().poll_events();
+      if (keys->pressed(GLFW_KEY_R)) p.head->request_recentre();
+      if (keys->pressed(GLFW_KEY_ESCAPE) || keys->pressed(GLFW_KEY_Q) ||
+          gl->window().should_close())
+        break;
+    }
+  }
+  const double loop_s = 1e-9 * static_cast<double>(clock.now_ns() - start_ns);
+  const uint64_t allocations = core::counted_allocations();
+  p.stop();
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  const FrameRecorderStats rec = recorder.finish();
+
+  RunSummary s;
+  s.source = p.source_kind + " " + p.source_file;
+  s.frames = loop.frames();
+  s.seconds = loop_s;
+  s.rate_hz = p.rate_hz;
+  s.missed_deadlines = loop.missed_deadlines();
+  s.skipped_slots = loop.skipped_slots();
+  s.mtp_swap = latency.stats(render::LatencyMetric::kMotionToSwap);
+  s.mtp_display = latency.stats(render::LatencyMetric::kMotionToDisplay);
+  s.video_age = latency.stats(render::LatencyMetric::kVideoAge);
+  s.model_age = latency.stats(render::LatencyMetric::kModelAge);
+  s.render = latency.stats(render::LatencyMetric::kRender);
+  for (const FrameLogRow& r : log) {
+    ++s.variant_frames[static_cast<int>(r.decision.variant)];
+    s.guidance_frames += r.decision.guidance;
+  }
+  s.camera_switches = frame.selector().switches();
+  s.camera_names = p.camera_names;
+  s.camera_frames_shown = frame.frames_fetched();
+  for (const auto& pipe : p.pipelines) {
+    s.camera_frames_rejected.push_back(pipe->rejected());
+    s.camera_frames_lost.push_back(pipe->device_dropped_frames());
+  }
+  s.pose_accepted = frame.pose_history().accepted();
+  s.pose_rejected = frame.pose_history().rejected() + p.head->rejected_reports();
+  s.recentres = p.head->recentres();
+  s.tracker_resets = p.head->tracker_resets();
+  s.model_updates = p.updater ? p.updater->stats().updates : 0;
+  s.allocations_after_warmup = allocations;
+  s.warmup_frames = o.warmup;
+  s.log_rows = log.size();
+  s.log_rows_dropped = log.dropped();
+  s.video_frames = rec.video_frames;
+  s.png_frames = rec.png_frames;
+  s.recorder_dropped = rec.dropped;
+  s.recorder_error = rec.error;
+
+  const std::string dir = o.out_dir + "/";
+  latency.write_csv(dir + "latency.csv");
+  latency.write_png(dir + "latency.png");
+  write_frames_csv(log, p.camera_names, dir + "frames.csv");
+  s.outputs = {dir + "latency.csv", dir + "latency.png", dir + "frames.csv"};
+  if (log.size() > 0) {
+    write_trace_png(log, p.frame_config.transition, dir + "trace.png");
+    s.outputs.push_back(dir + "trace.png");
+  }
+  if (thumbs.size() > 0) {
+    write_contact_sheet(thumbs, dir + "contact_sheet.png", o.contact_tiles);
+    s.outputs.push_back(dir + "contact_sheet.png");
+  }
+  if (!o.video_path.empty() && rec.error.empty()) s.outputs.push_back(o.video_path);
+  if (o.png_every) s.outputs.push_back(dir + "frame_*.png");
+  s.outputs.push_back(dir + "summary.json");
+  write_summary_json(s, dir + "summary.json");
+  print_summary(s, stdout);
+  return rec.error.empty() ? 0 : 1;
+}
+
+}  // namespace
+
+int run_station(const RunOptions& o) {
+  int rc = 1;
+  try {
+    rc = run(o);
+  } catch (const sim::ConfigError& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "hybrid-station run: %s\n", e.what());
+    rc = 2;
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "hybrid-station run: %s\n", e.what());
+    rc = 1;
+  }
+  calib::shutdown_camera_drivers();
+  return rc;
+}
+
+}  // namespace hd::station

@@ -1,0 +1,173 @@
+#include "station/frame/station_frame.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/view_measure.h"
+#include "station/model/model_updater.h"
+
+namespace hd::station {
+
+StationFrame::StationFrame(StationFrameConfig config,
+                           std::span<const drivers::CalibratedCamera> cameras,
+                           drivers::PoseSource& pose, PosePredictor& predictor,
+                           render::Compositor& compositor, const render::SyntheticScene* scene,
+                           render::LoopClock& clock, render::LatencyRecorder& latency)
+    : config_(config),
+      cameras_(cameras.begin(), cameras.end()),
+      pose_(pose),
+      predictor_(predictor),
+      compositor_(compositor),
+      scene_(scene),
+      clock_(clock),
+      latency_(latency),
+      transition_(config.transition),
+      selector_(config.selection),
+      m_camera_(cameras.size(), INFINITY),
+      measure_(cameras.size() * 2),
+      has_frame_(cameras.size(), 0),
+      fetched_(cameras.size(), 0) {
+  out_.allocate(config_.rig.output_width(), config_.rig.output_height());
+  hud_ = render::HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24));
+  for (const drivers::CalibratedCamera& c : cameras_)
+    guidance_cameras_.push_back({c.p_c, c.T_world_real, c.d_m});
+  rows_.reserve(config_.max_rows);
+}
+
+void StationFrame::set_model_updater(ModelUpdater* updater) {
+  model_ = updater;
+}
+
+void StationFrame::tick(const render::FrameTiming& timing) {
+  // Newest frame of every camera (the device threads keep publishing meanwhile).
+  for (std::size_t i = 0; i < cameras_.size(); ++i) {
+    if (cameras_[i].source && cameras_[i].source->frames().fetch()) {
+      has_frame_[i] = 1;
+      ++fetched_[i];
+    }
+  }
+  // Newest model: before its first update the mailbox shows the a-priori model (capture 0).
+  const render::SyntheticScene* scene = scene_;
+  int64_t model_capture_ns = 0;
+  if (model_) {
+    model_->models().fetch();
+    const ModelSnapshot& snapshot = model_->models().latest();
+    scene = &snapshot.scene;
+    model_capture_ns = snapshot.capture_oldest_ns;
+  }
+  const int64_t texture_ns = clock_.now_ns();
+
+  // Late latch: take every pose sample that arrived, then predict to the display time.
+  history_.pull(pose_.history(), &predictor_);
+  const int64_t pose_sample_ns = history_.empty() ? 0 : history_.newest().t_ns;
+  const core::Pose T_world_head = config_.T_world_tracker * predictor_.predict(timing.display_ns);
+
+  const render::StereoRig& rig = config_.rig;
+  const int eyes = rig.eye_count();
+  for (std::size_t c = 0; c < cameras_.size(); ++c) {
+    double worse = 0.0;
+    for (int e = 0; e < eyes; ++e) {
+      core::ViewSetup s;
+      s.real = cameras_[c].p_c;
+      s.T_world_real = cameras_[c].T_world_real;
+      s.virt = rig.eye[static_cast<std::size_t>(e)];
+      s.T_world_virt = rig.T_world_eye(T_world_head, e);
+      s.d_m = cameras_[c].d_m;
+      s.near_m = config_.near_m;
+      s.workspace = config_.workspace;
+      core::ViewMeasure& vm = measure_[c * 2 + static_cast<std::size_t>(e)];
+      vm = core::measure_view(s);
+      worse = render::StereoRig::worse_m(worse, vm.m);
+    }
+    m_camera_[c] = has_frame_[c] ? worse : INFINITY;
+  }
+  const int chosen = selector_.update(m_camera_, timing.dt_s);
+  const double m = chosen >= 0 ? m_camera_[static_cast<std::size_t>(chosen)] : INFINITY;
+  const core::TransitionState ts = transition_.update(m, timing.dt_s);
+
+  render::GuidanceCue cue;
+  if (config_.draw_guidance && ts.w_video <= 0.0)
+    cue = guidance_toward_nearest(rig.eye[0], rig.T_world_eye(T_world_head, 0), guidance_cameras_);
+
+  const int64_t render_start_ns = clock_.now_ns();
+  const drivers::Frame* video = nullptr;
+  if (chosen >= 0) video = &cameras_[static_cast<std::size_t>(chosen)].source->frames().latest();
+  for (int e = 0; e < eyes; ++e) {
+    render::CompositeRequest req;
+    req.scene = scene;
+    req.eye = rig.eye[static_cast<std::size_t>(e)];
+    req.T_world_eye = rig.T_world_eye(T_world_head, e);
+    req.near_m = config_.near_m;
+    if (video) {
+      const drivers::CalibratedCamera& cam = cameras_[static_cast<std::size_t>(chosen)];
+      const core::ViewMeasure& vm =
+          measure_[static_cast<std::size_t>(chosen) * 2 + static_cast<std::size_t>(e)];
+      req.video = video;
+      req.real = cam.p_c;
+      req.T_world_real = cam.T_world_real;
+      req.d_m = cam.d_m;
+      req.region = vm.region;
+      req.has_region = vm.has_region;
+    }
+    req.transition = ts;
+    req.mode = config_.transition.mode;
+    req.marking = config_.marking;
+    req.viewport = rig.viewport(e);
+    compositor_.draw(req, out_);
+    // Ghost frustum + arrow toward eye 0's nearest camera, seen from this eye; HUD on eye 0.
+    render::Overlay ov;
+    ov.eye = req.eye;
+    ov.T_world_eye = req.T_world_eye;
+    ov.near_m = req.near_m;
+    ov.hud = e == 0 ? &hud_ : nullptr;
+    if (cue.active) {
+      ov.cue = e == 0 ? cue
+                      : guidance_toward_nearest(
+                            req.eye, req.T_world_eye,
+                            std::span(&guidance_cameras_[static_cast<std::size_t>(cue.camera)], 1));
+      ov.cue.camera = cue.camera;
+    }
+    if (!ov.empty()) compositor_.draw_overlay(ov, req.viewport, out_);
+  }
+  const int64_t render_end_ns = clock_.now_ns();
+  compositor_.present();
+  const int64_t swap_ns = clock_.now_ns();
+
+  render::LatencyRecord r;
+  r.frame = timing.frame;
+  r.pose_sample_ns = pose_sample_ns;
+  if (video && ts.w_video > 0.0) {
+    r.video_ns = video->host_timestamp_ns;
+    r.video_is_exposure = video->device_time_trusted;
+  }
+  r.texture_update_ns = texture_ns;
+  r.model_capture_ns = model_capture_ns;
+  r.render_start_ns = render_start_ns;
+  r.render_end_ns = render_end_ns;
+  r.swap_ns = swap_ns;
+  r.predicted_display_ns = timing.display_ns;
+  r.missed_deadline = swap_ns > timing.deadline_ns;
+  latency_.record(r);
+
+  {
+    FrameRow& row = last_row_;
+    row.frame = timing.frame;
+    row.m = m;
+    row.w_video = ts.w_video;
+    row.camera = chosen;
+    row.variant = ts.variant;
+    row.guidance = cue.active;
+    row.guidance_distance_m = cue.distance_m;
+    row.guidance_dir_x = cue.direction_px.x();
+    row.guidance_dir_y = cue.direction_px.y();
+    row.head_x_m = T_world_head.t.x();
+    row.head_y_m = T_world_head.t.y();
+    row.head_z_m = T_world_head.t.z();
+  }
+  if (rows_.size() < rows_.capacity())
+    rows_.push_back(last_row_);
+  else
+    ++rows_dropped_;
+}
+
+}  // namespace hd::station

@@ -1,0 +1,72 @@
+#include "station/prediction/simulated_head_motion.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "station/prediction/so3.h"
+
+namespace hd::station {
+namespace {
+struct Wave {
+  double amplitude;
+  double hz;
+  double phase;
+};
+double sum(const Wave* w, int n, double t_s) {
+  double s = 0.0;
+  for (int i = 0; i < n; ++i)
+    s += w[i].amplitude * std::sin(2.0 * std::numbers::pi * w[i].hz * t_s + w[i].phase);
+  return s;
+}
+constexpr double kDeg = std::numbers::pi / 180.0;
+// Seated head motion: slow large turns, faster small corrections (rates up to ~100 deg/s).
+constexpr Wave kYaw[] = {{25 * kDeg, 0.25, 0.0}, {10 * kDeg, 0.7, 1.0}, {3 * kDeg, 1.9, 2.0}};
+constexpr Wave kPitch[] = {{10 * kDeg, 0.35, 0.5}, {4 * kDeg, 1.1, 0.2}};
+constexpr Wave kRoll[] = {{3 * kDeg, 0.5, 1.3}};
+constexpr Wave kX[] = {{0.05, 0.3, 0.0}, {0.01, 1.3, 0.7}};
+constexpr Wave kY[] = {{0.02, 0.45, 0.3}};
+constexpr Wave kZ[] = {{0.04, 0.2, 1.1}};
+}  // namespace
+
+core::Pose SimulatedHeadMotion::pose(double t) const {
+  const double yaw = scale_ * sum(kYaw, 3, t);
+  const double pitch = scale_ * sum(kPitch, 2, t);
+  const double roll = scale_ * sum(kRoll, 1, t);
+  const Eigen::Quaterniond q =
+      Eigen::Quaterniond(Eigen::AngleAxisd(yaw, -Eigen::Vector3d::UnitY())) *
+      Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()) *
+      Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ());
+  const Eigen::Vector3d p =
+      centre_m_ + scale_ * Eigen::Vector3d(sum(kX, 2, t), sum(kY, 1, t), sum(kZ, 1, t));
+  return core::Pose::from(q, p);
+}
+
+Eigen::Vector3d SimulatedHeadMotion::angular_velocity_head(double t_s) const {
+  constexpr double h = 0.5e-6;
+  const Eigen::Quaterniond a(pose(t_s - h).R);
+  const Eigen::Quaterniond b(pose(t_s + h).R);
+  return so3_log(a.conjugate() * b) / (2.0 * h);
+}
+
+drivers::PoseSample SimulatedTracker::sample(int64_t t_ns) {
+  const double t_s = static_cast<double>(t_ns) * 1e-9;
+  const core::Pose truth = motion_.pose(t_s);
+  auto noise3 = [this](double sd) {
+    return Eigen::Vector3d(sd * unit_(rng_), sd * unit_(rng_), sd * unit_(rng_));
+  };
+  drivers::PoseSample s;
+  const Eigen::Quaterniond q =
+      Eigen::Quaterniond(truth.R) * so3_exp(noise3(noise_.orientation_rad));
+  s.T_tracker_head = core::Pose::from(q, truth.t + noise3(noise_.position_m));
+  s.has_position = true;
+  s.has_angular_velocity = with_gyro_;
+  if (with_gyro_)
+    s.angular_velocity_rad_s = motion_.angular_velocity_head(t_s) + noise3(noise_.gyro_rad_s);
+  s.sequence = sequence_++;
+  s.host_timestamp_ns = t_ns;
+  s.device_timestamp_ns = t_ns;
+  s.device_time_trusted = true;
+  return s;
+}
+
+}  // namespace hd::station

@@ -1,0 +1,231 @@
+// Scene files: the shipped scenes load with the values they spell, and each kind of mistake is
+// reported with the file, line and field where it is.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "sim/scene/scene_file.h"
+
+namespace hd::sim {
+namespace {
+
+const std::filesystem::path kScenes = std::filesystem::path(HD_SOURCE_DIR) / "scenes";
+
+// A minimal valid scene; the broken cases below edit one line of it (line numbers matter).
+const std::string kMinimal =
+    "name: t\n"                                                    // 1
+    "workspace:\n"                                                 // 2
+    "  min: [-1, -1, 0.5]\n"                                       // 3
+    "  max: [1, 1, 3]\n"                                           // 4
+    "cameras:\n"                                                   // 5
+    "  - name: c0\n"                                               // 6
+    "    d_m: 1.5\n"                                               // 7
+    "    intrinsics: {fx: 100, fy: 100, width: 64, height: 48}\n"  // 8
+    "    pose: {position: [0, 0, 0]}\n"                            // 9
+    "head:\n"                                                      // 10
+    "  keyframes:\n"                                               // 11
+    "    - {t: 0, position: [0, 0, 0]}\n";                         // 12
+
+std::string replace_line(const std::string& text, int line, const std::string& with) {
+  std::string out;
+  std::size_t pos = 0;
+  for (int i = 1; pos < text.size(); ++i) {
+    const std::size_t end = text.find('\n', pos);
+    out += (i == line) ? with : text.substr(pos, end - pos + 1);
+    pos = end + 1;
+  }
+  return out;
+}
+
+TEST(SceneFile, MinimalSceneParsesWithDefaults) {
+  const Scene s = parse_scene(kMinimal, "min.yaml");
+  EXPECT_EQ(s.name, "t");
+  ASSERT_EQ(s.cameras.size(), 1u);
+  EXPECT_EQ(s.cameras[0].name, "c0");
+  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.cx, 32.0);  // default: the image centre
+  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.cy, 24.0);
+  EXPECT_DOUBLE_EQ(s.cameras[0].rate_hz, 30.0);
+  EXPECT_TRUE(s.effects.empty());
+  EXPECT_EQ(s.head.keyframes.size(), 1u);
+}
+
+TEST(SceneFile, DefaultSceneRoundTrip) {
+  const Scene s = load_scene((kScenes / "default.yaml").string());
+  EXPECT_EQ(s.name, "default");
+  EXPECT_DOUBLE_EQ(s.duration_s, 20.0);
+  EXPECT_EQ(s.workspace.min_m, Eigen::Vector3d(-1.0, -0.6, 0.8));
+  EXPECT_EQ(s.workspace.max_m, Eigen::Vector3d(1.0, 0.4, 2.2));
+  ASSERT_EQ(s.geometry.size(), 2u);
+  EXPECT_EQ(s.geometry[0].shape, ScenePrimitive::Shape::kQuad);
+  EXPECT_EQ(s.geometry[0].size_m, Eigen::Vector3d(1.6, 1.0, 0.0));
+  EXPECT_EQ(s.geometry[0].texture.color0, (std::array<uint8_t, 3>{170, 130, 90}));
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_EQ(s.objects[1].carrier, "gripper");
+  EXPECT_DOUBLE_EQ(s.objects[1].pick_s, 4.0);
+  EXPECT_DOUBLE_EQ(s.objects[1].place_s, 10.0);
+  EXPECT_EQ(s.objects[0].keyframes.size(), 9u);
+  EXPECT_DOUBLE_EQ(s.objects[0].keyframes[4].yaw_deg, 30.0);
+  ASSERT_EQ(s.cameras.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.fx, 420.0);
+  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.distortion[0], -0.12);
+  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.distortion[1], 0.03);
+  EXPECT_EQ(s.cameras[0].intrinsics.distortion_count, 5);
+  EXPECT_EQ(s.cameras[1].intrinsics.distortion_count, 0);
+  // cam1 looks at the table centre: its optical axis points there, its x axis is horizontal.
+  const core::Pose& p1 = s.cameras[1].T_world_cam;
+  const Eigen::Vector3d to_target = (Eigen::Vector3d(0, 0.4, 1.4) - p1.t).normalized();
+  EXPECT_NEAR(p1.R.col(2).dot(to_target), 1.0, 1e-12);
+  EXPECT_NEAR(p1.R.col(0).y(), 0.0, 1e-12);
+  EXPECT_TRUE(p1.valid());
+  // cam0's pitch of -26.57 deg looks down the ray (0, 0.7, 1.4) to the table centre.
+  EXPECT_NEAR(s.cameras[0].T_world_cam.R.col(2).dot(Eigen::Vector3d(0, 0.7, 1.4).normalized()), 1.0,
+              1e-7);
+  EXPECT_EQ(s.head.keyframes.size(), 5u);
+  EXPECT_EQ(s.effects.names(),
+            (std::vector<std::string>{"sensor_noise", "camera_delay", "model_staleness"}));
+  EXPECT_DOUBLE_EQ(s.effects.camera_delay->mean_ms, 30.0);
+  EXPECT_DOUBLE_EQ(s.effects.camera_delay->jitter_ms, 5.0);
+  EXPECT_DOUBLE_EQ(s.effects.model_staleness->period_s, 2.0);
+  EXPECT_DOUBLE_EQ(*s.station.m_t, 40.0);
+}
+
+TEST(SceneFile, EveryShippedSceneLoads) {
+  for (const char* name : {"default.yaml", "bare.yaml", "plane.yaml", "all-effects.yaml"}) {
+    SCOPED_TRACE(name);
+    EXPECT_NO_THROW(load_scene((kScenes / name).string()));
+  }
+  EXPECT_TRUE(load_scene((kScenes / "bare.yaml").string()).effects.empty());
+  EXPECT_EQ(load_scene((kScenes / "all-effects.yaml").string()).effects.names().size(), 11u);
+}
+
+struct Broken {
+  const char* what;
+  std::string text;
+  int line;
+  const char* field;
+  const char* why_contains;
+};
+
+TEST(SceneFile, BrokenFilesNameLineAndField) {
+  const std::vector<Broken> cases = {
+      {"missing key", replace_line(kMinimal, 7, ""), 6, "cameras[0].d_m", "missing required key"},
+      {"wrong type", replace_line(kMinimal, 7, "    d_m: far\n"), 7, "cameras[0].d_m",
+       "expected a number"},
+      {"out of range",
+       replace_line(kMinimal, 8, "    intrinsics: {fx: -100, fy: 100, width: 64, height: 48}\n"), 8,
+       "cameras[0].intrinsics.fx", "must be > 0"},
+      {"unknown key", replace_line(kMinimal, 9, "    pose: {position: [0, 0, 0]}\n    rate: 30\n"),
+       10, "cameras[0].rate", "did you mean 'rate_hz'"},
+      {"unknown effect",
+       kMinimal + "effects:\n  - camera_delay: {mean_ms: 5}\n  - sensor_nose: {sigma_dn: 2}\n", 15,
+       "effects[1]", "did you mean 'sensor_noise'"},
+      {"bare unknown effect", kMinimal + "effects:\n  - blurr\n", 14, "effects[0]",
+       "unknown effect 'blurr'"},
+      {"effect parameter out of range",
+       kMinimal + "effects:\n  - dropped_frames: {probability: 1.5}\n", 14,
+       "effects[0].dropped_frames.probability", "in [0, 1)"},
+      {"bare effect lacks a required parameter", kMinimal + "effects:\n  - motion_blur\n", 14,
+       "effects[0].exposure_ms", "missing required key"},
+      {"effect listed twice", kMinimal + "effects:\n  - lens_distortion\n  - lens_distortion\n", 15,
+       "effects[1]", "listed twice"},
+      {"bad YAML syntax", replace_line(kMinimal, 9, "    pose: {position: [0, 0, 0]\n"), 10, "",
+       "syntax"},
+      {"missing calibration file",
+       replace_line(replace_line(kMinimal, 9, ""), 8, "    calibration: no-such-calib.yaml\n"), 8,
+       "cameras[0].calibration", "not found"},
+      {"keyframes out of order", kMinimal + "    - {t: 0, position: [1, 0, 0]}\n", 13,
+       "head.keyframes[1].t", "increase"},
+      {"unknown carrier",
+       kMinimal +
+           "objects:\n  - name: b\n    shape: box\n    size: [1, 1, 1]\n    keyframes: [{t: 0, "
+           "position: [0, 0, 1]}]\n    carried_by: {object: grip, pick_s: 1, place_s: 2}\n",
+       18, "objects[0].carried_by.object", "no other object named 'grip'"},
+      {"workspace min above max", replace_line(kMinimal, 4, "  max: [1, -2, 3]\n"), 4,
+       "workspace.max", ">= min"},
+      {"loop not a bool", kMinimal + "loop: sometimes\n", 13, "loop", "expected true or false"},
+  };
+  for (const Broken& c : cases) {
+    SCOPED_TRACE(c.what);
+    try {
+      parse_scene(c.text, "/tmp/broken.yaml");
+      ADD_FAILURE() << "accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(e.file(), "/tmp/broken.yaml");
+      EXPECT_EQ(e.line(), c.line) << e.what();
+      EXPECT_EQ(e.field(), c.field) << e.what();
+      EXPECT_NE(e.why().find(c.why_contains), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("/tmp/broken.yaml:" + std::to_string(c.line) + ":", 0),
+                0u)
+          << e.what();
+    }
+  }
+}
+
+TEST(SceneFile, CameraFromCalibrationFile) {
+  const auto dir = std::filesystem::temp_directory_path() / "hd_scene_file_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "cam.yaml")
+      << "%YAML:1.0\n---\n"
+         "image_width: 64\nimage_height: 48\n"
+         "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n"
+         "   dt: d\n   data: [ 110., 0., 31.5, 0., 112., 23.5, 0., 0., 1. ]\n"
+         "distortion_coefficients: !!opencv-matrix\n   rows: 1\n"
+         "   cols: 5\n   dt: d\n   data: [ -0.2, 0.05, 0., 0., 0. ]\n";
+  std::ofstream(dir / "s.yaml") << replace_line(
+      replace_line(kMinimal, 8, "    calibration: cam.yaml\n"), 9,
+      "    pose: {position: [0.1, 0, 0]}\n");
+  const Scene s = load_scene((dir / "s.yaml").string());
+  const core::Pinhole& k = s.cameras[0].intrinsics;
+  EXPECT_DOUBLE_EQ(k.fx, 110.0);
+  EXPECT_DOUBLE_EQ(k.fy, 112.0);
+  EXPECT_DOUBLE_EQ(k.cx, 31.5);
+  EXPECT_EQ(k.width, 64);
+  EXPECT_DOUBLE_EQ(k.distortion[0], -0.2);
+  EXPECT_EQ(s.cameras[0].calibration_file, (dir / "cam.yaml").string());
+  EXPECT_DOUBLE_EQ(s.cameras[0].T_world_cam.t.x(), 0.1);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SceneFile, ObjectPoseFollowsKeyframesAndCarrier) {
+  const Scene s = load_scene((kScenes / "default.yaml").string());
+  // Gripper: halfway between t = 5 (-0.3, 0.10, 1.3) and t = 8 (0.3, 0.10, 1.5, yaw 30).
+  const core::Pose g = object_pose_at(s, 0, 6.5);
+  EXPECT_NEAR((g.t - Eigen::Vector3d(0.0, 0.10, 1.4)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(Eigen::AngleAxisd(g.R).angle(), 15.0 * M_PI / 180.0, 1e-12);
+  // Block: at rest until picked at 4 s.
+  EXPECT_NEAR((object_pose_at(s, 1, 3.9).t - Eigen::Vector3d(-0.3, 0.36, 1.3)).norm(), 0, 1e-12);
+  // Carried: gripped at 4 s with the gripper at (-0.3, 0.27, 1.3), 0.09 m above the block's
+  // centre; at 7 s the gripper is 2/3 of the way from (-0.3, 0.10, 1.3) to (0.3, 0.10, 1.5).
+  EXPECT_NEAR(
+      (object_pose_at(s, 1, 7.0).t - Eigen::Vector3d(0.1, 0.19, 1.3 + 0.2 * 2.0 / 3.0)).norm(), 0,
+      1e-12);
+  // Put down at 10 s on the table at (0.3, 0.36, 1.5) (the 30 deg yaw turns about the vertical
+  // through the gripper, leaving the block below it) and left there.
+  EXPECT_NEAR((object_pose_at(s, 1, 10.0).t - Eigen::Vector3d(0.3, 0.36, 1.5)).norm(), 0, 1e-12);
+  EXPECT_NEAR((object_pose_at(s, 1, 17.0).t - Eigen::Vector3d(0.3, 0.36, 1.5)).norm(), 0, 1e-12);
+  EXPECT_NEAR(Eigen::AngleAxisd(object_pose_at(s, 1, 17.0).R).angle(), 30.0 * M_PI / 180.0, 1e-12);
+}
+
+TEST(SceneFile, LoopedSceneRepeatsObjectMotionEveryDuration) {
+  Scene s = load_scene((kScenes / "default.yaml").string());
+  EXPECT_FALSE(s.loop);
+  EXPECT_TRUE(parse_scene(kMinimal + "loop: true\n", "l.yaml").loop);
+  // Not looped: after the 20 s scene the block stays where it was put down.
+  EXPECT_NEAR((object_pose_at(s, 1, 27.0).t - Eigen::Vector3d(0.3, 0.36, 1.5)).norm(), 0, 1e-12);
+  s.loop = true;
+  // Looped: 27 s is 7 s into the second lap, the block in the gripper again (see above).
+  EXPECT_NEAR(
+      (object_pose_at(s, 1, 27.0).t - Eigen::Vector3d(0.1, 0.19, 1.3 + 0.2 * 2.0 / 3.0)).norm(), 0,
+      1e-12);
+  EXPECT_NEAR((object_pose_at(s, 0, 46.5).t - Eigen::Vector3d(0.0, 0.10, 1.4)).norm(), 0.0, 1e-9);
+  EXPECT_DOUBLE_EQ(motion_time_s(s, 3.0), 3.0);
+  EXPECT_DOUBLE_EQ(motion_time_s(s, 20.0), 0.0);
+  EXPECT_DOUBLE_EQ(motion_time_s(s, 3600.0 + 3.5), 3.5);
+  EXPECT_DOUBLE_EQ(motion_time_s(s, -1.0), -1.0);
+}
+
+}  // namespace
+}  // namespace hd::sim
