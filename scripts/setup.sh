@@ -6,6 +6,8 @@ set -euo pipefail
 packages=(
   # toolchain
   build-essential python3 cmake ninja-build pkg-config ccache clang clang-format libclang-rt-14-dev
+  # a CPU load beside the tests (scripts/test-under-load.sh)
+  stress-ng
   # core + tools
   libeigen3-dev nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libspdlog-dev
   # tests and benchmarks

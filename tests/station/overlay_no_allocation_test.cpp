@@ -88,8 +88,10 @@ TEST(OverlayNoAllocation, StationFrameDrawsGuidanceAndHudWithoutAllocating) {
   devices.stop();
   EXPECT_EQ(hd::core::counted_allocations(), 0u);
 
+  // Every frame after the first head sample is guided (the devices spoke before the first tick).
   int guided = 0;
   for (const FrameRow& r : frame.rows()) guided += r.guidance;
+  EXPECT_EQ(frame.rows().size(), 120u);
   EXPECT_EQ(guided, 120);
   // Eye 0's top-left holds the HUD strip: the background (40, 40, 48) darkened by alpha 160.
   const render::ImageRgba8& img = frame.image();

@@ -1,10 +1,12 @@
 #pragma once
-// A small station for the tests that run whole frames (tests/render/*_no_allocation_test.cpp): one
+// A small station for the tests that run whole frames (tests/station/*_no_allocation_test.cpp): one
 // 160x120 mock camera at the world origin, a 500 Hz mock head, stereo 160x120 eyes and a
 // transition band (m_t 8, eps 3, no lag) that the tests' head motions cross.
 
 #include <Eigen/Geometry>
+#include <chrono>
 #include <cstddef>
+#include <thread>
 #include <utility>
 
 #include "drivers/camera_source.h"
@@ -75,7 +77,9 @@ inline render::SyntheticScene checker_quad_scene() {
 }
 
 /// Opens and starts a camera and a head for a test's scope; stops both when it ends, also when
-/// an assertion returns early.
+/// an assertion returns early. Returns once both have published their first frame and sample
+/// (or after 10 s), so a test's first tick never runs before the devices have spoken, however
+/// loaded the machine is.
 class StartedDevices {
  public:
   StartedDevices(drivers::CameraSource& camera, drivers::PoseSource& head)
@@ -84,6 +88,10 @@ class StartedDevices {
     head_.open();
     camera_.start();
     head_.start();
+    for (int i = 0; i < 10'000; ++i) {
+      if (camera_.frames().published() > 0 && head_.latest().published() > 0) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
   }
   ~StartedDevices() { stop(); }
   StartedDevices(const StartedDevices&) = delete;
