@@ -11,6 +11,10 @@ enum class SourceState : uint8_t {
   kStreaming,     ///< data arriving at the expected rate
   kStalled,       ///< open, but nothing new for longer than the stall timeout
   kDisconnected,  ///< the device went away; the driver reopens it when it returns
+  /// The device delivers another size or pixel format than the one negotiated at open (a source
+  /// change, a reconnect with other settings): no frame is published until it delivers the
+  /// negotiated one again.
+  kFormatMismatch,
 };
 
 inline std::string_view to_string(SourceState s) {
@@ -23,6 +27,8 @@ inline std::string_view to_string(SourceState s) {
       return "stalled";
     case SourceState::kDisconnected:
       return "disconnected";
+    case SourceState::kFormatMismatch:
+      return "format-mismatch";
   }
   return "unknown";
 }

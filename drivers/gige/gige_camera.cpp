@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string_view>
+#include <thread>
 
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/convert/bayer_to_rgba.h"
@@ -45,6 +46,19 @@ bool arv_format_for(PixelFormat f, ArvPixelFormat& out) {
   }
 }
 
+bool pixel_format_of(ArvPixelFormat arv, PixelFormat& out) {
+  for (PixelFormat f :
+       {PixelFormat::kMono8, PixelFormat::kRgb8, PixelFormat::kBayerRggb8, PixelFormat::kBayerGrbg8,
+        PixelFormat::kBayerGbrg8, PixelFormat::kBayerBggr8}) {
+    ArvPixelFormat a = 0;
+    if (arv_format_for(f, a) && a == arv) {
+      out = f;
+      return true;
+    }
+  }
+  return false;
+}
+
 int64_t clock_ns(clockid_t id) {
   timespec ts{};
   clock_gettime(id, &ts);
@@ -66,6 +80,14 @@ std::string ipv4_of(ArvCamera* camera) {
 
 }  // namespace
 
+// What open_device() found: the camera's answer to the configuration.
+struct GigeCamera::DeviceAnswer {
+  CameraFormat format;
+  std::string refused;  // what the camera did not take, and why
+  std::string limits;   // the sizes it can deliver
+  std::string detail;   // region offset and binning as read back
+};
+
 GigeCamera::GigeCamera(GigeConfig config)
     : config_(std::move(config)),
       mailbox_(std::make_unique<Mailbox<Frame>>()),
@@ -77,13 +99,23 @@ GigeCamera::~GigeCamera() {
   close();
 }
 
-void GigeCamera::open() {
-  if (camera_) return;
+GigeCamera::DeviceAnswer GigeCamera::open_device() {
   const std::string& id = config_.device_id;
-  if (!arv_format_for(config_.pixel_format, arv_format_)) {
-    throw DeviceError("GigE camera '" + id + "': pixel format " +
-                      std::string(to_string(config_.pixel_format)) +
-                      " is not supported (expected Mono8, RGB8, BayerRG8/GR8/GB8/BG8)");
+  // Once negotiated, a reopen asks for that format only: the mailbox and the converter are set
+  // up for it.
+  const std::vector<PixelFormat> candidates =
+      format_.known()               ? std::vector<PixelFormat>{format_.pixel_format}
+      : acceptable_formats_.empty() ? std::vector<PixelFormat>{config_.pixel_format}
+                                    : acceptable_formats_;
+  {
+    ArvPixelFormat unused = 0;
+    bool any = false;
+    for (PixelFormat f : candidates) any = any || arv_format_for(f, unused);
+    if (!any) {
+      throw DeviceError("GigE camera '" + id + "': pixel format " +
+                        std::string(to_string(candidates.front())) +
+                        " is not supported (expected Mono8, RGB8, BayerRG8/GR8/GB8/BG8)");
+    }
   }
   if (config_.buffer_count < 0 || config_.buffer_count == 1) {
     throw DeviceError("GigE camera '" + id + "': buffer_count must be 0 (auto) or >= 2, got " +
@@ -109,38 +141,159 @@ void GigeCamera::open() {
     throw DeviceError(msg);
   };
   ArvCamera* cam = camera_.get();
+  // Aravis writes out-of-range values by default; a camera that silently clamps or ignores them
+  // would then deliver something else than asked. With the check on, Aravis refuses them.
+  arv_camera_set_range_check_policy(cam, ARV_RANGE_CHECK_POLICY_ENABLE);
   address_ = ipv4_of(cam);
+  DeviceAnswer a;
+  const auto refuse = [&a](const std::string& what) {
+    a.refused += (a.refused.empty() ? "" : "; ") + what;
+  };
 
-  arv_camera_set_pixel_format(cam, arv_format_, error.out());
-  if (error) fail("setting PixelFormat " + std::string(to_string(config_.pixel_format)));
-  if (config_.roi.width_px > 0 && config_.roi.height_px > 0) {
-    arv_camera_set_region(cam, config_.roi.x_px, config_.roi.y_px, config_.roi.width_px,
-                          config_.roi.height_px, error.out());
-    if (error) fail("setting region of interest");
+  // Pixel format: the first acceptable one the camera offers and takes.
+  guint n_offered = 0;
+  gint64* offered = arv_camera_dup_available_pixel_formats(cam, &n_offered, error.out());
+  error.clear();
+  bool format_set = false;
+  std::string format_why;
+  for (PixelFormat f : candidates) {
+    ArvPixelFormat arv = 0;
+    if (!arv_format_for(f, arv)) continue;
+    if (offered != nullptr &&
+        std::find(offered, offered + n_offered, gint64{arv}) == offered + n_offered) {
+      format_why += " " + std::string(to_string(f)) + " (not offered)";
+      continue;
+    }
+    arv_camera_set_pixel_format(cam, arv, error.out());
+    const bool took = !error && arv_camera_get_pixel_format(cam, error.out()) == arv && !error;
+    if (took) {
+      arv_format_ = arv;
+      pixel_format_ = f;
+      format_set = true;
+      break;
+    }
+    format_why += " " + std::string(to_string(f)) + " (" + error.message() + ")";
   }
+  g_free(offered);
+  if (!format_set) {
+    camera_.reset();
+    throw DeviceError("GigE camera '" + id +
+                      "': takes none of the pixel formats asked for:" + format_why);
+  }
+
+  // Binning first: the region's sizes are binned pixels.
+  if (config_.binning_x > 0 || config_.binning_y > 0) {
+    const gboolean has_binning = arv_camera_is_binning_available(cam, error.out());
+    if (error || !has_binning) {
+      if (config_.binning_x > 1 || config_.binning_y > 1)
+        refuse("binning " + std::to_string(config_.binning_x) + "x" +
+               std::to_string(config_.binning_y) + ": the camera has no binning");
+    } else {
+      arv_camera_set_binning(cam, config_.binning_x > 0 ? config_.binning_x : -1,
+                             config_.binning_y > 0 ? config_.binning_y : -1, error.out());
+      if (error) refuse("binning: " + std::string(error.message()));
+    }
+  }
+  binning_x_ = binning_y_ = 1;
+  if (arv_camera_is_binning_available(cam, error.out()) && !error) {
+    gint bx = 1, by = 1;
+    arv_camera_get_binning(cam, &bx, &by, error.out());
+    if (!error) {
+      binning_x_ = bx;
+      binning_y_ = by;
+    }
+  }
+
   gint x = 0, y = 0, w = 0, h = 0;
   arv_camera_get_region(cam, &x, &y, &w, &h, error.out());
   if (error) fail("reading region of interest");
-  if (w <= 0 || h <= 0 || w > 65535 || h > 65535) {
+  gint w_min = 0, w_max = 0, h_min = 0, h_max = 0;
+  arv_camera_get_width_bounds(cam, &w_min, &w_max, error.out());
+  if (!error) arv_camera_get_height_bounds(cam, &h_min, &h_max, error.out());
+  const bool have_bounds = !error && w_max > 0 && h_max > 0;
+  gint w_inc = arv_camera_get_width_increment(cam, error.out());
+  if (error || w_inc < 1) w_inc = 1;
+  gint h_inc = arv_camera_get_height_increment(cam, error.out());
+  if (error || h_inc < 1) h_inc = 1;
+  error.clear();
+  if (have_bounds) {
+    a.limits = std::to_string(w_min) + ".." + std::to_string(w_max) + " x " +
+               std::to_string(h_min) + ".." + std::to_string(h_max) + " px";
+    if (w_inc > 1 || h_inc > 1)
+      a.limits += " in steps of " + std::to_string(w_inc) + "x" + std::to_string(h_inc);
+  }
+  const GigeRoi& roi = config_.roi;
+  if (roi.width_px > 0 && roi.height_px > 0) {
+    gint sensor_w = 0, sensor_h = 0;
+    arv_camera_get_sensor_size(cam, &sensor_w, &sensor_h, error.out());
     error.clear();
+    const auto keep = [](int wanted, int current, int size, int sensor) {
+      if (wanted >= 0) return wanted;
+      return sensor <= 0 || current + size <= sensor ? current : 0;
+    };
+    const int want_x = keep(roi.x_px, x, roi.width_px, sensor_w);
+    const int want_y = keep(roi.y_px, y, roi.height_px, sensor_h);
+    if (w != roi.width_px || h != roi.height_px || x != want_x || y != want_y) {
+      const auto check = [](const char* name, int v, int lo, int hi, int inc) -> std::string {
+        if (v < lo || v > hi)
+          return std::string(name) + " " + std::to_string(v) + " is outside the camera's " +
+                 std::to_string(lo) + ".." + std::to_string(hi);
+        if ((v - lo) % inc != 0)
+          return std::string(name) + " " + std::to_string(v) + " is not " + std::to_string(lo) +
+                 " + a multiple of " + std::to_string(inc);
+        return {};
+      };
+      std::string why;
+      if (have_bounds) {
+        why = check("Width", roi.width_px, w_min, w_max, w_inc);
+        const std::string hy = check("Height", roi.height_px, h_min, h_max, h_inc);
+        why += (why.empty() || hy.empty() ? "" : ", ") + hy;
+      }
+      if (why.empty()) {
+        arv_camera_set_region(cam, want_x, want_y, roi.width_px, roi.height_px, error.out());
+        if (error) why = error.message();
+      }
+      if (!why.empty())
+        refuse("region " + size_text(roi.width_px, roi.height_px) + " at (" +
+               std::to_string(want_x) + ", " + std::to_string(want_y) + "): " + why);
+      arv_camera_get_region(cam, &x, &y, &w, &h, error.out());
+      if (error) fail("reading region of interest");
+    }
+  }
+  if (w <= 0 || h <= 0 || w > 65535 || h > 65535) {
     camera_.reset();
     throw DeviceError("GigE camera '" + id + "' reports an invalid image size " +
                       std::to_string(w) + "x" + std::to_string(h));
   }
-  if ((config_.pixel_format != PixelFormat::kMono8 && config_.pixel_format != PixelFormat::kRgb8) &&
+  if ((pixel_format_ != PixelFormat::kMono8 && pixel_format_ != PixelFormat::kRgb8) &&
       (w < 2 || h < 2)) {
     camera_.reset();
     throw DeviceError("GigE camera '" + id + "': a Bayer image needs at least 2x2 pixels");
   }
-  width_px_ = w;
-  height_px_ = h;
+  offset_x_px_ = x;
+  offset_y_px_ = y;
+  a.detail = "region at (" + std::to_string(x) + ", " + std::to_string(y) + "), binning " +
+             std::to_string(binning_x_) + "x" + std::to_string(binning_y_);
+
   if (config_.frame_rate_hz > 0.0) {
     arv_camera_set_frame_rate(cam, config_.frame_rate_hz, error.out());
     if (error) fail("setting frame rate " + std::to_string(config_.frame_rate_hz) + " Hz");
   }
-  frame_rate_hz_ = arv_camera_get_frame_rate(cam, error.out());
+  const double rate = arv_camera_get_frame_rate(cam, error.out());
   if (error) fail("reading frame rate");
+  a.format = CameraFormat{w, h, pixel_format_, rate};
+  return a;
+}
 
+void GigeCamera::open_stream() {
+  const std::string& id = config_.device_id;
+  GErrorHolder error;
+  const auto fail = [&](std::string_view what) {
+    std::string msg = "GigE camera '" + id + "': " + std::string(what) + ": " + error.message();
+    camera_.reset();
+    throw DeviceError(msg);
+  };
+  ArvCamera* cam = camera_.get();
   if (config_.packet_size_bytes > 0) {
     arv_camera_gv_set_packet_size(cam, config_.packet_size_bytes, error.out());
     if (error) fail("setting packet size " + std::to_string(config_.packet_size_bytes));
@@ -152,13 +305,14 @@ void GigeCamera::open() {
   if (error) fail("reading packet size");
   payload_bytes_ = arv_camera_get_payload(cam, error.out());
   if (error) fail("reading payload size");
+  const int w = width_px_, h = height_px_;
   const std::size_t needed = static_cast<std::size_t>(w) * static_cast<std::size_t>(h) *
-                             static_cast<std::size_t>(bytes_per_pixel(config_.pixel_format));
+                             static_cast<std::size_t>(bytes_per_pixel(pixel_format_));
   if (payload_bytes_ < needed) {
     camera_.reset();
     throw DeviceError("GigE camera '" + id + "': payload " + std::to_string(payload_bytes_) +
                       " bytes is smaller than a " + std::to_string(w) + "x" + std::to_string(h) +
-                      " " + std::string(to_string(config_.pixel_format)) + " image");
+                      " " + std::string(to_string(pixel_format_)) + " image");
   }
 
   const bool loopback = address_.rfind("127.", 0) == 0;
@@ -166,7 +320,10 @@ void GigeCamera::open() {
                                             ? ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED
                                             : ARV_GV_STREAM_OPTION_NONE);
   stream_.reset(arv_camera_create_stream(cam, nullptr, nullptr, error.out()));
-  if (!stream_ || error) fail("creating the stream");
+  if (!stream_ || error) {
+    stream_.reset();
+    fail("creating the stream");
+  }
   const double rate = frame_rate_hz_ > 0.0 ? frame_rate_hz_ : 60.0;
   const auto frames_100ms = static_cast<std::size_t>(std::ceil(rate * 0.1));
   socket_buffer_bytes_ =
@@ -187,17 +344,66 @@ void GigeCamera::open() {
   for (int i = 0; i < buffer_count_; ++i) {
     arv_stream_push_buffer(stream_.get(), arv_buffer_new(payload_bytes_, nullptr));
   }
-
-  // A reconnect to the same size keeps the mailbox, so the consumer's reference stays valid.
-  if (mailbox_->write_slot().width != w || mailbox_->write_slot().height != h) {
-    Frame prototype;
-    prototype.allocate_rgba(w, h);
-    mailbox_ = std::make_unique<Mailbox<Frame>>(prototype);
-  }
-
   control_lost_.store(false);
   control_lost_handler_ = g_signal_connect(arv_camera_get_device(cam), "control-lost",
                                            G_CALLBACK(&GigeCamera::on_control_lost), this);
+}
+
+void GigeCamera::open() {
+  if (camera_) return;
+  const DeviceAnswer a = open_device();
+  const GigeRoi& roi = config_.roi;
+  if (roi.width_px > 0 && roi.height_px > 0 &&
+      (a.format.width_px != roi.width_px || a.format.height_px != roi.height_px)) {
+    camera_.reset();
+    throw DeviceError("GigE camera '" + config_.device_id + "' delivers " +
+                      size_text(a.format.width_px, a.format.height_px) + ", not the configured " +
+                      size_text(roi.width_px, roi.height_px) +
+                      (a.refused.empty() ? "" : " (" + a.refused + ")"));
+  }
+  adopt(a.format);
+}
+
+FormatNegotiation GigeCamera::negotiate(const CameraFormatRequest& wanted) {
+  if (running_.load()) {
+    throw DeviceError("GigE camera '" + config_.device_id + "': negotiate() while streaming");
+  }
+  if (wanted.width_px > 0 && wanted.height_px > 0) {
+    config_.roi = {-1, -1, wanted.width_px, wanted.height_px};
+  }
+  acceptable_formats_.clear();
+  for (PixelFormat f : wanted.pixel_formats) {
+    ArvPixelFormat unused = 0;
+    if (arv_format_for(f, unused)) acceptable_formats_.push_back(f);
+  }
+  if (!wanted.pixel_formats.empty() && acceptable_formats_.empty()) {
+    std::string asked;
+    for (PixelFormat f : wanted.pixel_formats) asked += " " + std::string(to_string(f));
+    throw DeviceError("GigE camera '" + config_.device_id + "': none of the pixel formats" + asked +
+                      " is one this driver converts (Mono8, RGB8, BayerRG8/GR8/GB8/BG8)");
+  }
+  if (wanted.frame_rate_hz > 0.0) config_.frame_rate_hz = wanted.frame_rate_hz;
+  close();  // opened before: release it, the request replaces its configuration
+  format_ = CameraFormat{};
+  const DeviceAnswer a = open_device();
+  adopt(a.format);
+  return {a.format, a.refused, a.limits, a.detail};
+}
+
+void GigeCamera::adopt(const CameraFormat& f) {
+  width_px_ = f.width_px;
+  height_px_ = f.height_px;
+  frame_rate_hz_ = f.frame_rate_hz;
+  format_ = f;
+  format_lost_ = false;
+  open_stream();
+  // Sized here, before start(): the consumer takes frames() after open, and it never changes
+  // while the camera streams (a reconnect must deliver this size again).
+  if (mailbox_->write_slot().width != width_px_ || mailbox_->write_slot().height != height_px_) {
+    Frame prototype;
+    prototype.allocate_rgba(width_px_, height_px_);
+    mailbox_ = std::make_unique<Mailbox<Frame>>(prototype);
+  }
   state_.store(SourceState::kClosed, std::memory_order_release);
 }
 
@@ -252,10 +458,39 @@ void GigeCamera::close() {
   retired_cameras_.clear();
 }
 
+void GigeCamera::release_live() {
+  if (camera_ && control_lost_handler_ != 0) {
+    g_signal_handler_disconnect(arv_camera_get_device(camera_.get()), control_lost_handler_);
+    control_lost_handler_ = 0;
+  }
+  if (camera_ && stream_) {
+    GErrorHolder error;  // it answers: stopping and releasing it does not wait on retries
+    arv_camera_stop_acquisition(camera_.get(), error.out());
+  }
+  stream_.reset();
+  camera_.reset();
+}
+
 bool GigeCamera::reconnect() {
+  reopen_attempts_.fetch_add(1, std::memory_order_relaxed);
   retire();
+  DeviceAnswer a;
   try {
-    open();
+    a = open_device();
+  } catch (const DeviceError&) {
+    retire();
+    return false;
+  }
+  const int64_t now_ns = monotonic_now_ns();
+  if (!a.format.same_image(format_)) {
+    // It answers, with other settings it will not give up: unusable until it does. The
+    // mailbox stays sized for the negotiated format, and nothing is published.
+    release_live();
+    enter_mismatch(FormatEventCause::kReconnect, a.format, now_ns);
+    return false;
+  }
+  try {
+    open_stream();
   } catch (const DeviceError&) {
     retire();
     return false;
@@ -270,10 +505,26 @@ bool GigeCamera::reconnect() {
   got_first_frame_ = false;
   rebase_sequence_ = true;  // the camera's ids restarted; the consumer's sequence must not
   clock_mapper_ = DeviceClockMapper(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000});
-  last_frame_ns_ = monotonic_now_ns();
+  last_frame_ns_ = now_ns;
   reconnects_.fetch_add(1, std::memory_order_relaxed);
+  leave_mismatch(FormatEventCause::kReconnect, now_ns);
   state_.store(SourceState::kStreaming, std::memory_order_release);
   return true;
+}
+
+void GigeCamera::enter_mismatch(FormatEventCause cause, const CameraFormat& seen, int64_t now_ns) {
+  // State first: a consumer that sees the event must also see the camera as unusable.
+  state_.store(SourceState::kFormatMismatch, std::memory_order_release);
+  if (format_lost_) return;
+  format_lost_ = true;
+  mismatch_since_ns_ = now_ns;
+  events_.push(FormatEvent{now_ns, FormatEventKind::kLost, cause, format_, seen});
+}
+
+void GigeCamera::leave_mismatch(FormatEventCause cause, int64_t now_ns) {
+  if (!format_lost_) return;
+  format_lost_ = false;
+  events_.push(FormatEvent{now_ns, FormatEventKind::kRestored, cause, format_, format_});
 }
 
 uint64_t GigeCamera::dropped_frames() const {
@@ -287,9 +538,11 @@ GigeStats GigeCamera::stats() const {
   s.id_gaps = id_gaps_.load(std::memory_order_relaxed);
   s.late_or_duplicate = late_.load(std::memory_order_relaxed);
   s.malformed = malformed_.load(std::memory_order_relaxed);
+  s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
   s.liveness_probes = probes_.load(std::memory_order_relaxed);
   s.last_bad_status = last_bad_status_.load(std::memory_order_relaxed);
   s.reconnects = reconnects_.load(std::memory_order_relaxed);
+  s.reopen_attempts = reopen_attempts_.load(std::memory_order_relaxed);
   s.bad_before_first_frame = bad_before_first_.load(std::memory_order_relaxed);
   return s;
 }
@@ -297,24 +550,46 @@ GigeStats GigeCamera::stats() const {
 void GigeCamera::stream_loop() {
   GvcpLivenessProbe probe(address_);
   while (running_.load(std::memory_order_acquire)) {
-    ArvBuffer* buffer = arv_stream_timeout_pop_buffer(stream_.get(), kPopTimeoutUs);
+    ArvBuffer* buffer = nullptr;
+    if (stream_) {
+      buffer = arv_stream_timeout_pop_buffer(stream_.get(), kPopTimeoutUs);
+    } else {
+      // Released (a camera that came back with other settings): nothing to pop until reopened.
+      std::this_thread::sleep_for(std::chrono::microseconds(kPopTimeoutUs));
+    }
     const int64_t now_ns = monotonic_now_ns();
     if (buffer != nullptr) {
       handle_buffer(buffer, now_ns);
       arv_stream_push_buffer(stream_.get(), buffer);  // back into the pool at once
     }
-    if (state() == SourceState::kDisconnected) {
-      // Reopen when the camera answers again (it was power-cycled, replugged or restarted).
+    const SourceState s = state();
+    if (s == SourceState::kDisconnected || (s == SourceState::kFormatMismatch && !stream_)) {
+      // Reopen when the camera answers again (it was power-cycled, replugged or restarted), or
+      // try again whether one that answered with other settings now takes ours.
       if (now_ns - last_probe_ns_ >= kReconnectPeriodNs) {
         last_probe_ns_ = now_ns;
-        if (probe.ping(config_.liveness_timeout_ns) == GvcpLivenessProbe::Answer::kAlive) {
+        const auto answer = probe.ping(config_.liveness_timeout_ns);
+        if (answer == GvcpLivenessProbe::Answer::kAlive) {
           reconnect();
+        } else if (s == SourceState::kFormatMismatch) {
+          state_.store(SourceState::kDisconnected, std::memory_order_release);
         }
       }
       continue;
     }
     if (control_lost_.load(std::memory_order_acquire)) {
       state_.store(SourceState::kDisconnected, std::memory_order_release);
+      continue;
+    }
+    if (s == SourceState::kFormatMismatch) {
+      // Streaming frames of another format (someone else reconfigured it, or it changed by
+      // itself): put our configuration back now and then, until the format is right again.
+      if (now_ns - mismatch_since_ns_ >= kReconnectPeriodNs &&
+          now_ns - last_probe_ns_ >= kReconnectPeriodNs) {
+        last_probe_ns_ = now_ns;
+        release_live();
+        reconnect();
+      }
       continue;
     }
     if (now_ns - last_frame_ns_ <= config_.stall_timeout_ns) continue;
@@ -333,8 +608,15 @@ void GigeCamera::stream_loop() {
 }
 
 void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
-  if (const ArvBufferStatus status = arv_buffer_get_status(buffer);
-      status != ARV_BUFFER_STATUS_SUCCESS) {
+  const ArvBufferStatus status = arv_buffer_get_status(buffer);
+  if (status == ARV_BUFFER_STATUS_SIZE_MISMATCH) {
+    // A frame larger than the negotiated payload: the camera's format changed under us.
+    unwrapper_.update(arv_buffer_get_frame_id(buffer));
+    wrong_format_.fetch_add(1, std::memory_order_relaxed);
+    enter_mismatch(FormatEventCause::kFrame, CameraFormat{}, popped_ns);
+    return;
+  }
+  if (status != ARV_BUFFER_STATUS_SUCCESS) {
     // The frame is lost, but its id is known: feed it, so the next frame shows no gap and the
     // loss is counted once.
     unwrapper_.update(arv_buffer_get_frame_id(buffer));
@@ -343,11 +625,20 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
     last_bad_status_.store(static_cast<int>(status), std::memory_order_relaxed);
     return;
   }
-  if (arv_buffer_get_payload_type(buffer) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE ||
-      arv_buffer_get_image_width(buffer) != width_px_ ||
-      arv_buffer_get_image_height(buffer) != height_px_ ||
-      arv_buffer_get_image_pixel_format(buffer) != arv_format_) {
+  if (arv_buffer_get_payload_type(buffer) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE) {
     malformed_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  const int buffer_w = arv_buffer_get_image_width(buffer);
+  const int buffer_h = arv_buffer_get_image_height(buffer);
+  const ArvPixelFormat buffer_format = arv_buffer_get_image_pixel_format(buffer);
+  if (buffer_w != width_px_ || buffer_h != height_px_ || buffer_format != arv_format_) {
+    unwrapper_.update(arv_buffer_get_frame_id(buffer));
+    wrong_format_.fetch_add(1, std::memory_order_relaxed);
+    CameraFormat seen{buffer_w, buffer_h, pixel_format_, frame_rate_hz_};
+    if (buffer_format != arv_format_ && !pixel_format_of(buffer_format, seen.pixel_format))
+      seen.pixel_format = PixelFormat::kRgba8;  // none GigE sends: "another one"
+    enter_mismatch(FormatEventCause::kFrame, seen, popped_ns);
     return;
   }
   std::size_t size = 0;
@@ -374,9 +665,9 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
 
   Frame& f = mailbox_->write_slot();
   const int w = width_px_, h = height_px_;
-  const int src_stride = w * bytes_per_pixel(config_.pixel_format);
+  const int src_stride = w * bytes_per_pixel(pixel_format_);
   bool ok = false;
-  switch (config_.pixel_format) {
+  switch (pixel_format_) {
     case PixelFormat::kMono8:
       ok =
           mono8_to_rgba(data, size, w, h, src_stride, f.data.data(), f.data.size(), f.stride_bytes);
@@ -385,8 +676,8 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
       ok = rgb8_to_rgba(data, size, w, h, src_stride, f.data.data(), f.data.size(), f.stride_bytes);
       break;
     default:
-      ok = bayer_to_rgba(config_.pixel_format, data, size, w, h, src_stride, f.data.data(),
-                         f.data.size(), f.stride_bytes);
+      ok = bayer_to_rgba(pixel_format_, data, size, w, h, src_stride, f.data.data(), f.data.size(),
+                         f.stride_bytes);
       break;
   }
   if (!ok) {
@@ -400,7 +691,10 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
       f.device_time_trusted ? clock_mapper_.map(device_ns, arrival_ns) : arrival_ns;
   // State first: a consumer that sees the new frame must also see the stream as live.
   last_frame_ns_ = popped_ns;
-  if (state() == SourceState::kStalled) state_.store(SourceState::kStreaming);
+  if (state() == SourceState::kStalled || state() == SourceState::kFormatMismatch) {
+    leave_mismatch(FormatEventCause::kFrame, popped_ns);
+    state_.store(SourceState::kStreaming);
+  }
   got_first_frame_ = true;
   if (rebase_sequence_) {
     // Unsigned wrap-around arithmetic: the first frame after a reconnect follows the last one.

@@ -33,20 +33,31 @@ struct GigeStats {
   uint64_t bad_buffers = 0;        ///< ARV_BUFFER_STATUS != SUCCESS (missing packets, timeout...)
   uint64_t id_gaps = 0;            ///< frames missing from the block-id sequence
   uint64_t late_or_duplicate = 0;  ///< ids at or before the newest one, skipped
-  uint64_t malformed = 0;          ///< wrong size / format / payload type, skipped
+  uint64_t malformed = 0;          ///< not an image payload, or unconvertible, skipped
+  /// Frames of another size or pixel format than negotiated (ARV_BUFFER_STATUS_SIZE_MISMATCH
+  /// included): never published; the first of a run of them is a FormatEvent.
+  uint64_t wrong_format = 0;
   uint64_t liveness_probes = 0;
-  int last_bad_status = 0;
-  uint64_t reconnects = 0;
+  int last_bad_status = 0;  ///< ArvBufferStatus of the newest bad buffer (0 = none yet)
+  uint64_t reconnects = 0;  ///< times a lost camera answered again and streams anew
+  /// Times a lost or mismatched camera that answered was opened again (successful or not).
+  uint64_t reopen_attempts = 0;
   /// Of bad_buffers, those before the first good frame of a start or reconnect (a stream that
   /// began mid-frame, or a first frame Aravis timed out while the host was busy starting).
-  uint64_t bad_before_first_frame =
-      0;  ///< times a lost camera answered again and streams anew  ///<
-          ///< ArvBufferStatus of the newest bad buffer (0 = none yet)
+  uint64_t bad_before_first_frame = 0;
 };
 
 /// Streams one GigE camera: open() negotiates region, pixel format, frame rate and packet size
 /// and sizes the mailbox; start() starts acquisition and a thread that pops Aravis buffers,
 /// converts them to RGBA8 into the mailbox and hands the buffer straight back to Aravis.
+///
+/// Format: binning, then the region, are set only where the camera's own limits (Width/Height
+/// bounds and increments, with Aravis's range check on) allow them, and every value is read back;
+/// negotiate() returns that answer (what was refused, and the camera's limits), open() throws
+/// when a configured region was not delivered. The negotiated size and pixel format are fixed
+/// for the run: a frame of another one, or a reconnect that cannot restore it, makes the state
+/// kFormatMismatch (with a FormatEvent) and publishes nothing; every 0.5 s the camera is released
+/// and opened again with the configuration until it delivers the negotiated format.
 ///
 /// Time: the arrival stamp is the buffer's system timestamp (taken by Aravis when the leader
 /// packet landed) moved onto CLOCK_MONOTONIC; the device timestamp is mapped onto it with a
@@ -64,7 +75,13 @@ class GigeCamera final : public CameraSource {
   GigeCamera& operator=(const GigeCamera&) = delete;
 
   std::string id() const override { return config_.device_id; }
-  void open() override;
+  void open() override;  ///< throws DeviceError, also when a configured region is not delivered
+  /// The request's size (keeping the camera's offsets, see GigeRoi), first pixel format we can
+  /// convert and rate replace the configuration's; the camera's answer is returned. Before
+  /// start() only (throws DeviceError otherwise).
+  FormatNegotiation negotiate(const CameraFormatRequest& wanted) override;
+  CameraFormat format() const override { return format_; }
+  bool pop_format_event(FormatEvent& out) override { return events_.pop(out); }
   void start() override;
   void stop() override;
   SourceState state() const override { return state_.load(std::memory_order_acquire); }
@@ -85,11 +102,22 @@ class GigeCamera final : public CameraSource {
   std::size_t payload_bytes() const { return payload_bytes_; }
   int buffer_count() const { return buffer_count_; }
   const std::string& address() const { return address_; }
+  int binning_x() const { return binning_x_; }  ///< read back; 1 when the camera has no binning
+  int binning_y() const { return binning_y_; }
+  int offset_x_px() const { return offset_x_px_; }
+  int offset_y_px() const { return offset_y_px_; }
 
  private:
+  struct DeviceAnswer;
+  DeviceAnswer open_device();  // camera_ opened and configured, what it delivers read back
+  void open_stream();          // packet size, payload, stream and buffers for camera_
   void close();
   void retire();
+  void adopt(const CameraFormat& f);  // sizes, stream and mailbox for what open_device() found
+  void release_live();
   bool reconnect();
+  void enter_mismatch(FormatEventCause cause, const CameraFormat& seen, int64_t now_ns);
+  void leave_mismatch(FormatEventCause cause, int64_t now_ns);
   void stream_loop();
   void handle_buffer(ArvBuffer* buffer, int64_t popped_ns);
   void check_liveness(int64_t now_ns);
@@ -112,6 +140,11 @@ class GigeCamera final : public CameraSource {
   std::size_t payload_bytes_ = 0;
   int buffer_count_ = 0;
   ArvPixelFormat arv_format_ = 0;
+  PixelFormat pixel_format_ = PixelFormat::kMono8;  // the one set (of the acceptable ones)
+  std::vector<PixelFormat> acceptable_formats_;     // empty: config_.pixel_format
+  int binning_x_ = 1, binning_y_ = 1;
+  int offset_x_px_ = 0, offset_y_px_ = 0;
+  CameraFormat format_;  // negotiated at open; the mailbox is sized for it
 
   std::thread thread_;
   std::atomic<bool> running_{false};
@@ -124,6 +157,8 @@ class GigeCamera final : public CameraSource {
   int64_t last_frame_ns_ = 0;
   int64_t last_probe_ns_ = 0;
   bool rebase_sequence_ = false;
+  bool format_lost_ = false;  // a kLost event was sent and no kRestored since
+  int64_t mismatch_since_ns_ = 0;
   uint64_t sequence_offset_ = 0;
   uint64_t last_sequence_ = 0;
 
@@ -132,12 +167,15 @@ class GigeCamera final : public CameraSource {
   std::atomic<uint64_t> id_gaps_{0};
   std::atomic<uint64_t> late_{0};
   std::atomic<uint64_t> malformed_{0};
+  std::atomic<uint64_t> wrong_format_{0};
   std::atomic<uint64_t> probes_{0};
   std::atomic<int> last_bad_status_{0};
   std::atomic<uint64_t> reconnects_{0};
+  std::atomic<uint64_t> reopen_attempts_{0};
   std::atomic<uint64_t> bad_before_first_{0};
   bool got_first_frame_ = false;
   SpscRing<GigeHandoffTiming, 1024> timings_;
+  FormatEventRing events_;
 };
 
 }  // namespace hd::drivers

@@ -8,7 +8,10 @@
 
 namespace hd::drivers {
 
-/// Sensor region in device pixels; width 0 keeps the camera's current region.
+/// Sensor region in device pixels (after binning); width 0 keeps the camera's current region. A
+/// negative offset keeps the camera's current offset on that axis when the region still fits on
+/// the sensor there, else uses 0 (what negotiate() asks for: hybrid-calib keeps the camera's
+/// region, so the station keeps the offset the calibration saw).
 struct GigeRoi {
   int x_px = 0;
   int y_px = 0;
@@ -21,6 +24,10 @@ struct GigeConfig {
       device_id;  ///< Aravis id ("Aravis-Fake-SERIAL", "<vendor>-<serial>") or an IP address
   PixelFormat pixel_format = PixelFormat::kMono8;  ///< Mono8, RGB8 or one of the 8-bit Bayers
   GigeRoi roi;
+  /// Binning factors (BinningHorizontal / BinningVertical); 0 keeps the camera's binning. Set
+  /// before the region, whose sizes are binned pixels.
+  int binning_x = 0;
+  int binning_y = 0;
   double frame_rate_hz = 30.0;  ///< 0 keeps the camera's rate
   int packet_size_bytes = 0;    ///< 0: negotiate the largest the path carries
   /// Aravis buffers allocated at open and recycled. 0: enough for every frame that can be in

@@ -66,6 +66,15 @@ void MockCamera::open() {
   opened_ = true;
 }
 
+FormatNegotiation MockCamera::negotiate(const CameraFormatRequest& wanted) {
+  open();
+  FormatNegotiation n{format(), "", "", ""};
+  if (wanted.width_px > 0 && wanted.height_px > 0 &&
+      (wanted.width_px != config_.width || wanted.height_px != config_.height))
+    n.limits = "only its configured size " + size_text(config_.width, config_.height);
+  return n;
+}
+
 void MockCamera::start() {
   if (running_) return;
   if (!opened_) open();

@@ -72,6 +72,11 @@ class MockCamera : public CameraSource {
   /// Frames lost because the generator could not keep the rate (part of dropped_frames()).
   uint64_t overrun_frames() const { return overruns_.load(std::memory_order_relaxed); }
   Mailbox<Frame>& frames() override { return frames_; }
+  /// The configured size, RGBA8 at the configured rate: a mock delivers nothing else.
+  CameraFormat format() const override {
+    return {config_.width, config_.height, PixelFormat::kRgba8, config_.rate_hz};
+  }
+  FormatNegotiation negotiate(const CameraFormatRequest& wanted) override;
 
  private:
   void run();

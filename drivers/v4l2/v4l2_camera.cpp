@@ -4,6 +4,7 @@
 #include <linux/videodev2.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -21,6 +22,23 @@ std::string errno_text(int err) {
 
 std::string mode_text(uint32_t fourcc, int w, int h) {
   return std::to_string(w) + "x" + std::to_string(h) + " " + v4l2_fourcc_name(fourcc);
+}
+
+// A reopen found the driver answering another mode than the one streamed: not a lost device.
+class ModeChanged : public DeviceError {
+ public:
+  ModeChanged(const std::string& what, CameraFormat seen) : DeviceError(what), seen_(seen) {}
+  const CameraFormat& seen() const { return seen_; }
+
+ private:
+  CameraFormat seen_;
+};
+
+CameraFormat format_of(uint32_t fourcc, int w, int h, double fps) {
+  // A fourcc we do not convert has no PixelFormat; RGBA8 (never a V4L2 capture format here)
+  // stands for "another one".
+  return {w, h, v4l2_fourcc_supported(fourcc) ? v4l2_pixel_format(fourcc) : PixelFormat::kRgba8,
+          fps};
 }
 
 }  // namespace
@@ -63,6 +81,45 @@ void V4l2Camera::open() {
   open_stream(false);
 }
 
+FormatNegotiation V4l2Camera::negotiate(const CameraFormatRequest& wanted) {
+  if (thread_.joinable()) fail("negotiate() while streaming; stop() first");
+  if (wanted.width_px > 0 && wanted.height_px > 0) {
+    options_.mode.width_px = wanted.width_px;
+    options_.mode.height_px = wanted.height_px;
+  }
+  if (wanted.frame_rate_hz > 0.0) options_.mode.fps = wanted.frame_rate_hz;
+  if (!wanted.pixel_formats.empty()) {
+    const auto has = [&](PixelFormat f) {
+      return std::find(wanted.pixel_formats.begin(), wanted.pixel_formats.end(), f) !=
+             wanted.pixel_formats.end();
+    };
+    if (has(PixelFormat::kYuyv) && has(PixelFormat::kMjpeg))
+      options_.mode.fourcc = 0;
+    else if (has(PixelFormat::kYuyv))
+      options_.mode.fourcc = V4L2_PIX_FMT_YUYV;
+    else if (has(PixelFormat::kMjpeg))
+      options_.mode.fourcc = V4L2_PIX_FMT_MJPEG;
+    else
+      fail("none of the pixel formats asked for is one this driver converts (YUYV, MJPEG)");
+  }
+  open();
+  FormatNegotiation n{format(), refused_, "", ""};
+  std::vector<std::string> seen;
+  for (const V4l2Mode& m : modes_) {
+    if (!v4l2_fourcc_supported(m.fourcc)) continue;
+    const std::string t = mode_text(m.fourcc, m.width_px, m.height_px);
+    if (std::find(seen.begin(), seen.end(), t) != seen.end()) continue;
+    seen.push_back(t);
+    n.limits += (n.limits.empty() ? "" : ", ") + t;
+  }
+  return n;
+}
+
+CameraFormat V4l2Camera::format() const {
+  if (chosen_.width_px <= 0) return {};
+  return format_of(chosen_.fourcc, chosen_.width_px, chosen_.height_px, chosen_.interval.fps());
+}
+
 void V4l2Camera::open_stream(bool reopening) {
   const int raw_fd = sys_.open(path_.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
   if (raw_fd < 0) fail("cannot open the video node", errno);
@@ -95,6 +152,11 @@ void V4l2Camera::open_stream(bool reopening) {
          (offered.empty() ? std::string(" nothing") : offered));
   }
   V4l2ModeChoice chosen = *choice;
+  std::string refused;
+  if (chosen.width_px != request.width_px || chosen.height_px != request.height_px) {
+    refused = "it offers no " + std::to_string(request.width_px) + "x" +
+              std::to_string(request.height_px) + " mode";
+  }
 
   v4l2_format fmt{};
   fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
@@ -119,9 +181,14 @@ void V4l2Camera::open_stream(bool reopening) {
     fail("driver answered S_FMT with an impossible size " + mode_text(pix.pixelformat, w, h));
   }
   if (w != chosen.width_px || h != chosen.height_px || pix.pixelformat != chosen.fourcc) {
-    spdlog::info("{}: asked for {}, driver gives {}; adopting it", path_,
-                 mode_text(chosen.fourcc, chosen.width_px, chosen.height_px),
-                 mode_text(pix.pixelformat, w, h));
+    if (!reopening) {
+      spdlog::info("{}: asked for {}, driver gives {}; adopting it", path_,
+                   mode_text(chosen.fourcc, chosen.width_px, chosen.height_px),
+                   mode_text(pix.pixelformat, w, h));
+    }
+    refused += (refused.empty() ? "" : "; ") + std::string("VIDIOC_S_FMT ") +
+               mode_text(chosen.fourcc, chosen.width_px, chosen.height_px) + " answered " +
+               mode_text(pix.pixelformat, w, h);
   }
   chosen.fourcc = pix.pixelformat;
   chosen.width_px = w;
@@ -137,8 +204,10 @@ void V4l2Camera::open_stream(bool reopening) {
   }
   if (reopening &&
       (chosen.fourcc != chosen_.fourcc || w != chosen_.width_px || h != chosen_.height_px)) {
-    fail("came back as " + mode_text(chosen.fourcc, w, h) + " but was streaming " +
-         mode_text(chosen_.fourcc, chosen_.width_px, chosen_.height_px));
+    throw ModeChanged(path_ + ": came back as " + mode_text(chosen.fourcc, w, h) +
+                          " but was streaming " +
+                          mode_text(chosen_.fourcc, chosen_.width_px, chosen_.height_px),
+                      format_of(chosen.fourcc, w, h, 0.0));
   }
 
   if (chosen.interval.numerator != 0) {
@@ -156,6 +225,12 @@ void V4l2Camera::open_stream(bool reopening) {
                    errno_text(errno));
     }
   }
+
+  // Drivers without source-change events (most UVC ones) refuse this; frames of another size
+  // then still never pass the converters, which check every buffer's length.
+  v4l2_event_subscription sub{};
+  sub.type = V4L2_EVENT_SOURCE_CHANGE;
+  events_subscribed_.store(sys_.ioctl(fd.get(), VIDIOC_SUBSCRIBE_EVENT, &sub) == 0);
 
   v4l2_requestbuffers req{};
   req.count = static_cast<uint32_t>(options_.buffer_count);
@@ -191,6 +266,8 @@ void V4l2Camera::open_stream(bool reopening) {
   if (!reopening) {  // the consumer may read these while the capture thread reopens
     modes_ = std::move(modes);
     chosen_ = chosen;
+    refused_ = refused;
+    format_lost_ = false;
   }
   bytes_per_line_ = bytes_per_line;
   size_image_ = pix.sizeimage;
@@ -261,14 +338,16 @@ void V4l2Camera::run() {
       try_reopen();
       continue;
     }
-    pollfd p{fd_.get(), POLLIN, 0};
+    pollfd p{fd_.get(), static_cast<short>(POLLIN | POLLPRI), 0};
     const int r = sys_.poll(&p, 1, options_.poll_timeout_ms);
     if (r < 0) {
       const int err = errno;
       if (err != EINTR) lose_device(err, "poll");
       continue;
     }
-    if (r > 0) capture_once(p.revents);
+    // Events first: a buffer dequeued after a source change may hold the new format.
+    if (r > 0 && (p.revents & POLLPRI) != 0) handle_events();
+    if (r > 0 && fd_.valid() && (p.revents & ~POLLPRI) != 0) capture_once(p.revents);
     if (fd_.valid() && state() == SourceState::kStreaming &&
         monotonic_now_ns() - last_frame_ns_ > options_.stall_timeout_ns) {
       set_state(SourceState::kStalled);
@@ -387,11 +466,19 @@ void V4l2Camera::try_reopen() {
     return;
   }
   last_reopen_try_ns_ = now_ns;
+  reopen_attempts_.fetch_add(1, std::memory_order_relaxed);
   try {
     open_stream(true);
     start_stream();
+  } catch (const ModeChanged& e) {
+    close_stream(false);
+    if (!format_lost_) set_error(std::string(e.what()) + "; unusable until it does again");
+    enter_mismatch(FormatEventCause::kReconnect, e.seen(), monotonic_now_ns());
+    return;
   } catch (const DeviceError& e) {
     close_stream(false);
+    // A node that is gone is disconnected, whatever its format was.
+    if (state() == SourceState::kFormatMismatch) set_state(SourceState::kDisconnected);
     std::lock_guard lock(error_mutex_);
     last_error_ = e.what();  // the node is usually just absent: not worth a log line per try
     return;
@@ -399,7 +486,55 @@ void V4l2Camera::try_reopen() {
   reconnects_.fetch_add(1, std::memory_order_relaxed);
   spdlog::info("{}: reopened, streaming {} again", path_,
                mode_text(chosen_.fourcc, chosen_.width_px, chosen_.height_px));
+  leave_mismatch(monotonic_now_ns());
   set_state(SourceState::kStreaming);
+}
+
+void V4l2Camera::handle_events() {
+  bool changed = false;
+  int64_t when_ns = 0;
+  for (int i = 0; i < 64; ++i) {  // bounded: a driver that floods events cannot hold us here
+    v4l2_event ev{};
+    if (sys_.ioctl(fd_.get(), VIDIOC_DQEVENT, &ev) != 0) break;  // ENOENT: none left
+    if (ev.type == V4L2_EVENT_SOURCE_CHANGE &&
+        (ev.u.src_change.changes & V4L2_EVENT_SRC_CH_RESOLUTION) != 0) {
+      changed = true;
+      // Event timestamps are CLOCK_MONOTONIC (V4L2 spec, VIDIOC_DQEVENT).
+      when_ns = int64_t(ev.timestamp.tv_sec) * 1'000'000'000 + int64_t(ev.timestamp.tv_nsec);
+    }
+  }
+  if (!changed) return;
+  const int64_t now_ns = monotonic_now_ns();
+  if (when_ns <= 0 || when_ns > now_ns) when_ns = now_ns;
+  CameraFormat seen;
+  v4l2_format fmt{};
+  fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  if (sys_.ioctl(fd_.get(), VIDIOC_G_FMT, &fmt) == 0) {
+    seen = format_of(fmt.fmt.pix.pixelformat, int(fmt.fmt.pix.width), int(fmt.fmt.pix.height), 0.0);
+  }
+  set_error(path_ + ": the source changed (V4L2_EVENT_SOURCE_CHANGE, now " + format_text(seen) +
+            "); unusable, reopening every " +
+            std::to_string(options_.reopen_period_ns / 1'000'000) + " ms until it delivers " +
+            format_text(format()) + " again");
+  enter_mismatch(FormatEventCause::kSourceChange, seen, when_ns);
+  close_stream(false);
+  have_sequence_ = false;
+  last_reopen_try_ns_ = now_ns;
+}
+
+void V4l2Camera::enter_mismatch(FormatEventCause cause, const CameraFormat& seen, int64_t when_ns) {
+  // State first: a consumer that sees the event must also see the camera as unusable.
+  set_state(SourceState::kFormatMismatch);
+  if (format_lost_) return;
+  format_lost_ = true;
+  events_.push(FormatEvent{when_ns, FormatEventKind::kLost, cause, format(), seen});
+}
+
+void V4l2Camera::leave_mismatch(int64_t now_ns) {
+  if (!format_lost_) return;
+  format_lost_ = false;
+  events_.push(FormatEvent{now_ns, FormatEventKind::kRestored, FormatEventCause::kReconnect,
+                           format(), format()});
 }
 
 }  // namespace hd::drivers

@@ -27,14 +27,20 @@ struct V4l2CameraOptions {
 };
 
 /// open() queries the node, negotiates a mode (see choose_v4l2_mode), sets it with S_FMT and
-/// adopts the driver's answer (a different size is adopted; a format we cannot convert is
-/// refused), sets the rate with S_PARM and maps the buffers. start() streams on a thread that
-/// converts every frame into the mailbox's write slot and publishes it. After start() the
-/// per-frame path neither allocates nor locks.
+/// adopts the driver's answer (a different size is adopted, and negotiate() says so; a format we
+/// cannot convert is refused), sets the rate with S_PARM and maps the buffers. start() streams on
+/// a thread that converts every frame into the mailbox's write slot and publishes it. After
+/// start() the per-frame path neither allocates nor locks.
 ///
 /// Faults: sequence gaps, error-flagged buffers and frames that fail to convert are dropped and
 /// counted; ENODEV or any other stream failure closes everything (kDisconnected) and the thread
 /// reopens the node every reopen_period until the same mode streams again (kStreaming).
+///
+/// Format changes: the camera subscribes to V4L2_EVENT_SOURCE_CHANGE (where the driver has it)
+/// and handles events before it dequeues a buffer. A resolution change, or a reopen whose S_FMT
+/// answers another mode, makes the state kFormatMismatch at once with a FormatEvent (the event's
+/// time is the kernel's, CLOCK_MONOTONIC), closes the stream and publishes nothing; the node is
+/// reopened with the negotiated mode every reopen_period until the driver delivers it again.
 class V4l2Camera final : public CameraSource {
  public:
   explicit V4l2Camera(std::string device_path, V4l2CameraOptions options = {},
@@ -44,7 +50,12 @@ class V4l2Camera final : public CameraSource {
   V4l2Camera& operator=(const V4l2Camera&) = delete;
 
   std::string id() const override { return path_; }
-  void open() override;   ///< throws DeviceError naming the device
+  void open() override;  ///< throws DeviceError naming the device
+  /// The request's size, rate and (YUYV and/or MJPEG) formats replace the options' mode; the
+  /// driver's S_FMT answer is returned. Before start() only.
+  FormatNegotiation negotiate(const CameraFormatRequest& wanted) override;
+  CameraFormat format() const override;
+  bool pop_format_event(FormatEvent& out) override { return events_.pop(out); }
   void start() override;  ///< opens first if needed; throws DeviceError
   void stop() override;   ///< joins the thread, releases every buffer and the fd
   SourceState state() const override { return state_.load(std::memory_order_acquire); }
@@ -61,6 +72,10 @@ class V4l2Camera final : public CameraSource {
   uint64_t sequence_gaps() const { return gap_frames_.load(std::memory_order_relaxed); }
   uint64_t spurious_wakeups() const { return eagain_.load(std::memory_order_relaxed); }
   uint64_t reconnects() const { return reconnects_.load(std::memory_order_relaxed); }
+  /// Reopen attempts while disconnected or mismatched (successful or not).
+  uint64_t reopen_attempts() const { return reopen_attempts_.load(std::memory_order_relaxed); }
+  /// Whether the driver accepted the V4L2_EVENT_SOURCE_CHANGE subscription at the last open.
+  bool source_change_events() const { return events_subscribed_.load(); }
   /// Why the device last failed (empty if it never did). Not for the per-frame path.
   std::string last_error() const;
 
@@ -70,6 +85,9 @@ class V4l2Camera final : public CameraSource {
   void close_stream(bool device_gone);
   void run();
   void capture_once(short revents);
+  void handle_events();
+  void enter_mismatch(FormatEventCause cause, const CameraFormat& seen, int64_t when_ns);
+  void leave_mismatch(int64_t now_ns);
   void lose_device(int err, const char* what);
   void try_reopen();
   void set_error(std::string message);
@@ -89,6 +107,9 @@ class V4l2Camera final : public CameraSource {
   std::size_t size_image_ = 0;
   std::unique_ptr<Mailbox<Frame>> mailbox_;
   std::unique_ptr<MjpegDecoder> mjpeg_;
+  std::string refused_;  // what the last open's driver did not take (for negotiate())
+  std::atomic<bool> events_subscribed_{false};
+  FormatEventRing events_;
 
   std::thread thread_;
   std::atomic<bool> stop_requested_{false};
@@ -99,6 +120,7 @@ class V4l2Camera final : public CameraSource {
   std::atomic<uint64_t> gap_frames_{0};
   std::atomic<uint64_t> eagain_{0};
   std::atomic<uint64_t> reconnects_{0};
+  std::atomic<uint64_t> reopen_attempts_{0};
 
   // Capture-thread state.
   bool have_sequence_ = false;
@@ -108,6 +130,7 @@ class V4l2Camera final : public CameraSource {
   bool published_any_ = false;
   int64_t last_frame_ns_ = 0;
   int64_t last_reopen_try_ns_ = 0;
+  bool format_lost_ = false;  // a kLost event was sent and no kRestored since
 
   mutable std::mutex error_mutex_;
   std::string last_error_;

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "calib/camera_factory.h"
+#include "drivers/camera_format.h"
 #include "drivers/hid/hid_head_tracker.h"
 #include "drivers/hid/hidapi_transport.h"
 #include "drivers/mock/mock_head_tracker_transport.h"
@@ -76,20 +77,35 @@ std::unique_ptr<drivers::PoseSource> still_head() {
   return std::make_unique<drivers::MockPoseSource>(c);
 }
 
+// Why a camera that does not deliver its calibrated size is refused, and what to do about it.
+std::string format_refusal(const CameraConfig& cc, const drivers::FormatNegotiation& got,
+                           const drivers::FormatVerdict& verdict) {
+  const std::string calibrated = drivers::size_text(cc.p_c.width, cc.p_c.height);
+  const std::string delivered = drivers::size_text(got.delivered.width_px, got.delivered.height_px);
+  std::string how;
+  switch (calib::camera_kind(cc.id)) {
+    case calib::CameraKind::kGige:
+      how = "set its region (Width, Height, and binning) so that it delivers " + calibrated;
+      break;
+    case calib::CameraKind::kV4l2:
+      how = "use a camera with a " + calibrated + " mode (v4l2-ctl -d " + cc.id +
+            " --list-formats-ext lists them)";
+      break;
+    case calib::CameraKind::kMock:
+      how = "give it the id mock:" + calibrated;
+      break;
+  }
+  return "calibrated at " + calibrated + " (" + cc.calibration_file + "), but the camera " +
+         verdict.problem + ". Recalibrate it at " + delivered +
+         " (hybrid-calib intrinsics and pose with this camera), or " + how;
+}
+
 void add_cameras(StationParts& p, const StationConfig& config) {
   for (const CameraConfig& cc : config.cameras) {
     const std::string label = cc.name + " (" + cc.id + ")";
     std::unique_ptr<drivers::CameraSource> device;
     try {
       device = calib::make_camera_source(cc.id);
-      // A mock's frame size is known now: a calibration for another size would be rejected
-      // frame by frame later, so say it here.
-      int w = 640, h = 480;
-      if (cc.id.rfind("mock:", 0) == 0) std::sscanf(cc.id.c_str() + 5, "%dx%d", &w, &h);
-      if (calib::camera_kind(cc.id) == calib::CameraKind::kMock &&
-          (w != cc.p_c.width || h != cc.p_c.height))
-        throw std::runtime_error(fmt("frames are %gx%g but ", w, h) + cc.calibration_file +
-                                 fmt(" is for %gx%g", cc.p_c.width, cc.p_c.height));
     } catch (const std::exception& e) {
       p.report.missing("camera", label, e.what(), cc.optional);
       continue;
@@ -98,15 +114,29 @@ void add_cameras(StationParts& p, const StationConfig& config) {
     pc.p_c = cc.p_c;
     pc.model_period_s = config.model.refresh_period_s;
     auto pipe = std::make_unique<station::CameraPipeline>(*device, pc);
+    // The calibration fixes the size: the device is asked for it and must deliver exactly it
+    // (drivers/camera_format.h, judge_format), so no frame is refused later for its size.
+    const drivers::CameraFormatRequest want{cc.p_c.width, cc.p_c.height, {}, 0.0};
+    drivers::FormatNegotiation got;
     try {
-      pipe->open();
+      got = pipe->negotiate(want);
     } catch (const std::exception& e) {
       p.report.missing("camera", label, e.what(), cc.optional);
       continue;
     }
+    const drivers::FormatVerdict verdict = drivers::judge_format(want, got);
+    if (!verdict.ok) {
+      p.report.missing("camera", label, format_refusal(cc, got, verdict), cc.optional);
+      continue;
+    }
     const Eigen::Vector3d& c = cc.T_world_cam.t;
+    const std::string delivered =
+        got.delivered.known() ? drivers::format_text(got.delivered)
+                              : "size unknown until the first frame (" +
+                                    drivers::size_text(cc.p_c.width, cc.p_c.height) + " expected)";
     p.report.opened("camera", label,
-                    fmt("%gx%g, calibration ", cc.p_c.width, cc.p_c.height) + cc.calibration_file +
+                    delivered + (got.detail.empty() ? "" : " (" + got.detail + ")") +
+                        ", calibration " + cc.calibration_file +
                         fmt(", centre (%.2f, %.2f, %.2f) m", c.x(), c.y(), c.z()) +
                         fmt(", d = %g m", cc.d_m) +
                         (pipe->undistorting() ? ", undistorted" : ", no distortion"));

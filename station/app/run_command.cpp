@@ -22,7 +22,7 @@ const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
       "Writes DIR/latency.csv, latency.png, frames.csv (m, w_video, camera, variant per frame),\n"
       "trace.png (m and w_video over time), contact_sheet.png and summary.json.\n"
       "Exit codes: 0 done, 1 runtime failure, 2 bad scene/config file (file:line:col: field),\n"
-      "3 a required device is missing.");
+      "3 a required device is missing (or a camera cannot deliver its calibrated size).");
   add_run_options(*cmd, *opts);
   cmd->callback([opts, &exit_code] { exit_code = run_station(*opts); });
 }};

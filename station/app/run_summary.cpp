@@ -47,6 +47,10 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  ", rejected %" PRIu64 "\n",
                  s.camera_names[i].c_str(), s.camera_frames_shown[i], s.camera_frames_lost[i],
                  s.camera_frames_rejected[i]);
+  if (!s.camera_events.empty())
+    std::fprintf(out, "  camera format events: %zu\n", s.camera_events.size());
+  for (const CameraEventRecord& e : s.camera_events)
+    std::fprintf(out, "  %s\n", CameraEventLog::line(e).c_str() + 2);
   std::fprintf(out,
                "  head samples accepted %" PRIu64 ", rejected %" PRIu64 "; re-centres %" PRIu64
                ", tracker resets %" PRIu64 "; model updates %" PRIu64 "\n",
@@ -90,6 +94,16 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                     {"frames_lost", s.camera_frames_lost[i]},
                     {"frames_rejected", s.camera_frames_rejected[i]}});
   j["cameras"] = cams;
+  nlohmann::json events = nlohmann::json::array();
+  for (const CameraEventRecord& e : s.camera_events)
+    events.push_back({{"camera", e.camera},
+                      {"kind", e.kind},
+                      {"cause", e.cause},
+                      {"time_ns", e.time_ns},
+                      {"t_s", e.t_s},
+                      {"expected", e.expected},
+                      {"seen", e.seen}});
+  j["camera_events"] = events;
   j["head"] = {{"accepted", s.pose_accepted},
                {"rejected", s.pose_rejected},
                {"recentres", s.recentres},

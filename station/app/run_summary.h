@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "render/latency/latency_recorder.h"
+#include "station/app/camera_events.h"
 
 namespace hd::station {
 
@@ -26,6 +27,7 @@ struct RunSummary {
   std::vector<uint64_t> camera_frames_shown;     ///< frames in which each camera's frame was new
   std::vector<uint64_t> camera_frames_rejected;  ///< by the pipeline (wrong size / format)
   std::vector<uint64_t> camera_frames_lost;      ///< by the device: sequence gaps, overruns
+  std::vector<CameraEventRecord> camera_events;  ///< format lost / restored, in the order seen
   uint64_t pose_accepted = 0, pose_rejected = 0;
   uint64_t recentres = 0, tracker_resets = 0;
   uint64_t model_updates = 0;

@@ -22,6 +22,7 @@
 #include "render/latency/latency_recorder.h"
 #include "render/loop/frame_loop.h"
 #include "sim/scene/scene_file.h"
+#include "station/app/camera_events.h"
 #include "station/app/contact_sheet.h"
 #include "station/app/frame_log.h"
 #include "station/app/frame_recorder.h"
@@ -200,6 +201,10 @@ int run(const RunOptions& o) {
   int64_t next_hud_ns = start_ns;
   std::string hud;
   RunProgress progress(o.progress_s, stdout, start_ns);
+  // Format changes are reported when they happen, not only as a count at the end.
+  CameraEventLog camera_events(stdout, start_ns);
+  std::vector<drivers::CameraSource*> event_sources;
+  for (const auto& pipe : p.pipelines) event_sources.push_back(pipe.get());
   for (;;) {
     if (o.frames && loop.frames() >= o.frames) break;
     if (!o.frames && seconds > 0.0 &&
@@ -211,6 +216,7 @@ int run(const RunOptions& o) {
     // keys.
     const int64_t now = clock.now_ns();
     progress.frame_done(frame.last_row().variant, loop.frames(), loop.missed_deadlines(), now);
+    camera_events.poll(event_sources, p.camera_names);
     if (now >= next_hud_ns) {
       next_hud_ns = now + 500'000'000;
       const station::FrameRow& r = frame.last_row();
@@ -230,6 +236,7 @@ int run(const RunOptions& o) {
   const double loop_s = 1e-9 * static_cast<double>(clock.now_ns() - start_ns);
   const uint64_t allocations = core::counted_allocations();
   p.stop();
+  camera_events.poll(event_sources, p.camera_names);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   const FrameRecorderStats rec = recorder.finish();
@@ -257,6 +264,7 @@ int run(const RunOptions& o) {
     s.camera_frames_rejected.push_back(pipe->rejected());
     s.camera_frames_lost.push_back(pipe->device_dropped_frames());
   }
+  s.camera_events = camera_events.events();
   s.pose_accepted = frame.pose_history().accepted();
   s.pose_rejected = frame.pose_history().rejected() + p.head->rejected_reports();
   s.recentres = p.head->recentres();

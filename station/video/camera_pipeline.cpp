@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "drivers/clock/monotonic_clock.h"
 #include "station/video/frame_copy.h"
 
 namespace hd::station {
@@ -63,11 +64,28 @@ bool CameraPipeline::process_one() {
   drivers::Mailbox<drivers::Frame>& in = source_.frames();
   if (!in.fetch()) return false;
   const drivers::Frame& src = in.latest();
+  const drivers::CameraFormat expected{config_.p_c.width, config_.p_c.height,
+                                       drivers::PixelFormat::kRgba8, 0.0};
+  if (!is_rgba_frame(src, expected.width_px, expected.height_px)) {
+    rejected_.fetch_add(1, std::memory_order_relaxed);
+    // State first: a consumer that sees the event must also see the camera as unusable.
+    if (!mismatch_.exchange(true, std::memory_order_acq_rel)) {
+      events_.push({drivers::monotonic_now_ns(), drivers::FormatEventKind::kLost,
+                    drivers::FormatEventCause::kFrame, expected,
+                    drivers::CameraFormat{src.width, src.height, src.format, 0.0}});
+    }
+    return true;
+  }
   drivers::Frame& out = frames_.write_slot();
   const bool ok = undistort_ ? undistorter_.apply(src, out) : copy_frame(src, out);
   if (!ok) {
     rejected_.fetch_add(1, std::memory_order_relaxed);
     return true;
+  }
+  if (mismatch_.load(std::memory_order_relaxed)) {
+    events_.push({drivers::monotonic_now_ns(), drivers::FormatEventKind::kRestored,
+                  drivers::FormatEventCause::kFrame, expected, expected});
+    mismatch_.store(false, std::memory_order_release);
   }
   // The model's copy is taken from the finished frame (no second undistortion) before the
   // station can see it: after publish() the slot belongs to the mailbox.

@@ -29,10 +29,13 @@ struct CameraPipelineConfig {
 /// new frame of the wrapped source (a driver or a mock camera; this pipeline is that mailbox's
 /// single consumer), undistorts or copies it into `frames()` with sequence and all timestamps
 /// untouched, and, at most every `model_period_s` (by host timestamp), also into
-/// `model_frames()`. id(), state() and dropped_frames() are the wrapped source's (plus frames
-/// this pipeline rejected, counted in `rejected()`). All buffers are sized in the constructor:
-/// nothing is allocated per frame. stop() joins within about one poll period plus the time of
-/// one frame's undistortion.
+/// `model_frames()`. id(), format() and negotiate() are the wrapped source's; dropped_frames() adds
+/// the frames this pipeline rejected (`rejected()`). A frame of another size or format than p_c's
+/// (a source that cannot say its format before its first frame, or one whose driver missed a
+/// change) is never published: state() is kFormatMismatch from that frame until one of the right
+/// size arrives, and both moments are FormatEvents (pop_format_event() returns the source's and
+/// the pipeline's). All buffers are sized in the constructor: nothing is allocated per frame.
+/// stop() joins within about one poll period plus the time of one frame's undistortion.
 class CameraPipeline final : public drivers::CameraSource {
  public:
   /// `source` must outlive the pipeline. Throws std::invalid_argument when p_c is not valid.
@@ -45,7 +48,17 @@ class CameraPipeline final : public drivers::CameraSource {
   void open() override;   ///< opens the wrapped source (DeviceError passes through)
   void start() override;  ///< starts the wrapped source, then the pipeline thread
   void stop() override;   ///< joins the pipeline thread, then stops the wrapped source
-  drivers::SourceState state() const override { return source_.state(); }
+  drivers::SourceState state() const override {
+    return mismatch_.load(std::memory_order_acquire) ? drivers::SourceState::kFormatMismatch
+                                                     : source_.state();
+  }
+  drivers::FormatNegotiation negotiate(const drivers::CameraFormatRequest& wanted) override {
+    return source_.negotiate(wanted);
+  }
+  drivers::CameraFormat format() const override { return source_.format(); }
+  bool pop_format_event(drivers::FormatEvent& out) override {
+    return source_.pop_format_event(out) || events_.pop(out);
+  }
   uint64_t dropped_frames() const override;
   drivers::Mailbox<drivers::Frame>& frames() override { return frames_; }
 
@@ -82,6 +95,8 @@ class CameraPipeline final : public drivers::CameraSource {
   std::atomic<bool> running_{false};
   std::atomic<uint64_t> processed_{0};
   std::atomic<uint64_t> rejected_{0};
+  std::atomic<bool> mismatch_{false};
+  drivers::FormatEventRing events_;
   std::thread thread_;
 };
 

@@ -229,8 +229,12 @@ TEST_F(StationRunTest, MockStationConfigRunsItsDevicesAndSkipsTheOptionalMissing
   const Result r =
       run("--config scenes/station-mock.yaml --headless --frames 60 --out '" + out.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("camera   ok      front (mock)"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("camera   ok      side (mock:320x240)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("camera   ok      front (mock): 640x480 RGBA8 at 30 Hz, calibration"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("camera   ok      side (mock:320x240): 320x240 RGBA8 at 30 Hz"),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("camera   skipped spare (/dev/video99)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("tracker  ok      mock"), std::string::npos) << r.out;
   check_frames_csv(out / "frames.csv", 60, {"front", "side"});
@@ -337,6 +341,27 @@ TEST_F(StationRunTest, MissingRequiredDeviceIsNamedWithItsReason) {
       << r.out;
   EXPECT_NE(r.err.find("/dev/video98"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("ffff:fffe"), std::string::npos) << r.err;
+}
+
+TEST_F(StationRunTest, ACameraThatCannotDeliverItsCalibratedSizeRefusesTheStart) {
+  // A mock delivers exactly the size of its id; calibrated at 640x480, mock:320x240 cannot be
+  // set to it, and the run must not start (and then reject every frame).
+  const fs::path config = dir_ / "station.yaml";
+  const std::string cal = (fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml").string();
+  std::ofstream(config) << "cameras:\n"
+                        << "  - {name: main, id: 'mock:320x240', calibration: '" << cal
+                        << "', d_m: 1.5}\n"
+                        << "tracker: {id: mock}\n"
+                        << "workspace: {min_m: [-1, -1, 0.5], max_m: [1, 1, 2]}\n";
+  const Result r = run("--config '" + config.string() + "' --headless --frames 5 --out '" +
+                       (dir_ / "out").string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_NE(r.out.find("camera   MISSING main (mock:320x240): calibrated at 640x480 (" + cal +
+                       "), but the camera delivers 320x240, not the requested 640x480"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.err.find("Recalibrate it at 320x240"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("give it the id mock:640x480"), std::string::npos) << r.err;
 }
 
 TEST_F(StationRunTest, DefaultSceneIsFoundAndSaysWhere) {

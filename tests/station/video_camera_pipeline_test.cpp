@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "core/allocation_counter.h"
+#include "drivers/clock/monotonic_clock.h"
 #include "drivers/mock/mock_camera.h"
 #include "station/video/camera_pipeline.h"
 #include "station/video/undistorter.h"
@@ -32,6 +33,15 @@ class HandCamera final : public drivers::CameraSource {
     f.host_timestamp_ns = host_ns;
     f.device_timestamp_ns = device_ns;
     f.device_time_trusted = trusted;
+    frames_.publish();
+  }
+  // A frame of another size (a source whose format changed): the slot is resized for it.
+  void push_sized(uint64_t seq, int w, int h) {
+    drivers::Frame& f = frames_.write_slot();
+    if (f.width != w || f.height != h) f.allocate_rgba(w, h);
+    drivers::write_test_pattern(f, seq);
+    f.sequence = seq;
+    f.host_timestamp_ns = static_cast<int64_t>(seq);
     frames_.publish();
   }
   int opened = 0, started = 0, stopped = 0;
@@ -134,6 +144,44 @@ TEST(VideoCameraPipeline, RejectsFramesOfTheWrongSizeAndCountsThem) {
   core::Pinhole bad = lens(64, 48, false);
   bad.width = 0;
   EXPECT_THROW(CameraPipeline(cam, {bad, 0.0, 500'000}), std::invalid_argument);
+}
+
+TEST(VideoCameraPipeline, AFrameOfAnotherSizeMakesTheCameraUnusableUntilTheRightSizeIsBack) {
+  HandCamera cam(40, 30);
+  CameraPipeline pipe(cam, {lens(40, 30, false), 0.0, 500'000});
+  cam.push_sized(1, 40, 30);
+  ASSERT_TRUE(pipe.process_one());
+  ASSERT_TRUE(pipe.frames().fetch());
+  EXPECT_EQ(pipe.state(), drivers::SourceState::kStalled);  // the source's own state
+
+  const int64_t before_ns = drivers::monotonic_now_ns();
+  cam.push_sized(2, 64, 48);
+  ASSERT_TRUE(pipe.process_one());
+  EXPECT_EQ(pipe.state(), drivers::SourceState::kFormatMismatch);
+  EXPECT_FALSE(pipe.frames().fetch()) << "a frame of another size was published";
+  drivers::FormatEvent e;
+  ASSERT_TRUE(pipe.pop_format_event(e));
+  EXPECT_EQ(e.kind, drivers::FormatEventKind::kLost);
+  EXPECT_EQ(e.cause, drivers::FormatEventCause::kFrame);
+  EXPECT_EQ(e.expected.width_px, 40);
+  EXPECT_EQ(e.expected.height_px, 30);
+  EXPECT_EQ(e.seen.width_px, 64);
+  EXPECT_EQ(e.seen.height_px, 48);
+  EXPECT_GE(e.time_ns, before_ns);
+  EXPECT_LE(e.time_ns, drivers::monotonic_now_ns());
+  cam.push_sized(3, 64, 48);
+  ASSERT_TRUE(pipe.process_one());
+  EXPECT_FALSE(pipe.pop_format_event(e)) << "one event per loss, not one per frame";
+  EXPECT_EQ(pipe.rejected(), 2u);
+
+  cam.push_sized(4, 40, 30);
+  ASSERT_TRUE(pipe.process_one());
+  EXPECT_EQ(pipe.state(), drivers::SourceState::kStalled);
+  ASSERT_TRUE(pipe.pop_format_event(e));
+  EXPECT_EQ(e.kind, drivers::FormatEventKind::kRestored);
+  ASSERT_TRUE(pipe.frames().fetch());
+  EXPECT_EQ(pipe.frames().latest().sequence, 4u);
+  EXPECT_EQ(drivers::read_test_pattern_sequence(pipe.frames().latest()), 4u);
 }
 
 TEST(VideoCameraPipeline, ThreadForwardsAMockCameraAndStopsPromptly) {

@@ -42,6 +42,8 @@ int FakeV4l2Device::open(const char* path, int /*flags*/) {
 
 int FakeV4l2Device::close(int fd) {
   std::lock_guard lock(mutex_);
+  subscribed_.erase(fd);
+  pending_events_.erase(fd);
   if (dead_fds_.erase(fd) == 1) return 0;
   if (fds_.erase(fd) == 0) return fail(EBADF);
   if (fds_.empty()) {  // last close releases the stream, and unmapped buffers
@@ -66,7 +68,7 @@ std::size_t FakeV4l2Device::frame_bytes_locked() const {
   return format_.sizeimage;
 }
 
-int FakeV4l2Device::ioctl_locked(int /*fd*/, unsigned long request, void* arg) {
+int FakeV4l2Device::ioctl_locked(int fd, unsigned long request, void* arg) {
   switch (request) {
     case VIDIOC_QUERYCAP: {
       auto* cap = static_cast<v4l2_capability*>(arg);
@@ -142,6 +144,7 @@ int FakeV4l2Device::ioctl_locked(int /*fd*/, unsigned long request, void* arg) {
       p.height = pick->height;
       p.pixelformat = pick->fourcc;
       if (config_.force_size) std::tie(p.width, p.height) = *config_.force_size;
+      if (source_size_) std::tie(p.width, p.height) = *source_size_;
       if (config_.force_fourcc) p.pixelformat = *config_.force_fourcc;
       p.field = V4L2_FIELD_NONE;
       if (p.pixelformat == V4L2_PIX_FMT_YUYV) {
@@ -237,6 +240,26 @@ int FakeV4l2Device::ioctl_locked(int /*fd*/, unsigned long request, void* arg) {
       streaming_ = true;
       return 0;
     }
+    case VIDIOC_SUBSCRIBE_EVENT: {
+      const auto* sub = static_cast<const v4l2_event_subscription*>(arg);
+      if (sub->type != V4L2_EVENT_SOURCE_CHANGE || sub->id != 0) return fail(EINVAL);
+      subscribed_.insert(fd);
+      return 0;
+    }
+    case VIDIOC_UNSUBSCRIBE_EVENT: {
+      subscribed_.erase(fd);
+      pending_events_.erase(fd);
+      return 0;
+    }
+    case VIDIOC_DQEVENT: {
+      auto& queue = pending_events_[fd];
+      if (queue.empty()) return fail(ENOENT);
+      auto* ev = static_cast<v4l2_event*>(arg);
+      *ev = queue.front();
+      queue.pop_front();
+      ev->pending = static_cast<uint32_t>(queue.size());
+      return 0;
+    }
     case VIDIOC_STREAMOFF: {
       streaming_ = false;
       incoming_.clear();
@@ -251,12 +274,41 @@ int FakeV4l2Device::ioctl_locked(int /*fd*/, unsigned long request, void* arg) {
 
 void FakeV4l2Device::unplug_locked() {
   unplugged_ = true;
+  subscribed_.clear();
+  pending_events_.clear();
   dead_fds_.insert(fds_.begin(), fds_.end());
   fds_.clear();
   streaming_ = false;
   incoming_.clear();
   done_.clear();
   for (auto& b : buffers_) b.queued = b.done = false;
+}
+
+void FakeV4l2Device::change_source_locked(uint32_t width, uint32_t height) {
+  source_size_ = std::make_pair(width, height);
+  // What G_FMT reports from now on; buffers already allocated keep their length.
+  format_.width = width;
+  format_.height = height;
+  if (format_.pixelformat == V4L2_PIX_FMT_YUYV) {
+    format_.bytesperline = width * 2 + config_.bytesperline_pad;
+    format_.sizeimage = format_.bytesperline * height;
+  }
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  for (int fd : subscribed_) {
+    v4l2_event ev{};
+    ev.type = V4L2_EVENT_SOURCE_CHANGE;
+    ev.u.src_change.changes = V4L2_EVENT_SRC_CH_RESOLUTION;
+    ev.sequence = event_sequence_++;
+    ev.timestamp = ts;
+    pending_events_[fd].push_back(ev);
+    ++events_raised_;
+  }
+}
+
+void FakeV4l2Device::change_source(uint32_t width, uint32_t height) {
+  std::lock_guard lock(mutex_);
+  change_source_locked(width, height);
 }
 
 bool FakeV4l2Device::produce_locked() {
@@ -272,6 +324,10 @@ bool FakeV4l2Device::produce_locked() {
     stalled_ = true;
     return false;
   }
+  if (config_.source_change_at && *config_.source_change_at == n) {
+    config_.source_change_at.reset();
+    change_source_locked(config_.source_change_to.first, config_.source_change_to.second);
+  }
   if (auto it = config_.skip_before.find(n); it != config_.skip_before.end()) {
     sequence_ += it->second;
   }
@@ -279,7 +335,10 @@ bool FakeV4l2Device::produce_locked() {
   incoming_.pop_front();
   Buffer& buf = buffers_[idx];
   std::size_t used = 0;
-  if (format_.pixelformat == V4L2_PIX_FMT_YUYV) {
+  const bool fits = std::size_t(format_.bytesperline) * format_.height <= buf.memory.size();
+  if (format_.pixelformat == V4L2_PIX_FMT_YUYV && !fits) {
+    used = 0;  // a frame larger than the buffer: the driver can only flag it
+  } else if (format_.pixelformat == V4L2_PIX_FMT_YUYV) {
     const uint32_t bpl = format_.bytesperline;
     for (uint32_t y = 0; y < format_.height; ++y) {
       for (uint32_t x = 0; x < bpl; ++x) {
@@ -302,7 +361,8 @@ bool FakeV4l2Device::produce_locked() {
   info.flags = config_.monotonic_timestamps
                    ? (V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | V4L2_BUF_FLAG_TSTAMP_SRC_SOE)
                    : V4L2_BUF_FLAG_TIMESTAMP_UNKNOWN;
-  if (config_.error_at.count(n) != 0) info.flags |= V4L2_BUF_FLAG_ERROR;
+  if (config_.error_at.count(n) != 0 || (format_.pixelformat == V4L2_PIX_FMT_YUYV && !fits))
+    info.flags |= V4L2_BUF_FLAG_ERROR;
   if (config_.monotonic_timestamps) {
     timespec ts{};
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -337,6 +397,11 @@ int FakeV4l2Device::poll(pollfd* fds, nfds_t count, int timeout_ms) {
       p.revents = POLLNVAL;
       return 1;
     }
+    const short pri = pending_locked(p);
+    if (pri != 0) {
+      p.revents = static_cast<short>(pri | (done_.empty() ? 0 : POLLIN));
+      return 1;
+    }
     if (!done_.empty()) {
       p.revents = POLLIN;
       return 1;
@@ -361,11 +426,14 @@ int FakeV4l2Device::poll(pollfd* fds, nfds_t count, int timeout_ms) {
     p.revents = POLLERR | POLLHUP;
     return 1;
   }
-  if (!done_.empty()) {
-    p.revents = POLLIN;
-    return 1;
-  }
-  return 0;
+  p.revents = static_cast<short>(pending_locked(p) | (done_.empty() ? 0 : POLLIN));
+  return p.revents != 0 ? 1 : 0;
+}
+
+short FakeV4l2Device::pending_locked(const pollfd& p) const {
+  const auto it = pending_events_.find(p.fd);
+  const bool pending = it != pending_events_.end() && !it->second.empty();
+  return pending && (p.events & POLLPRI) != 0 ? POLLPRI : 0;
 }
 
 void* FakeV4l2Device::mmap(void* /*addr*/, std::size_t length, int /*prot*/, int /*flags*/, int fd,
@@ -426,6 +494,11 @@ int FakeV4l2Device::mapped_buffers() const {
 uint64_t FakeV4l2Device::frames_produced() const {
   std::lock_guard lock(mutex_);
   return produced_;
+}
+
+uint64_t FakeV4l2Device::events_raised() const {
+  std::lock_guard lock(mutex_);
+  return events_raised_;
 }
 
 uint64_t FakeV4l2Device::qbuf_calls() const {

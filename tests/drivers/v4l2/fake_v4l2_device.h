@@ -2,7 +2,9 @@
 // A V4L2 capture device as a state machine behind the syscall seam: the real V4l2Camera code runs
 // against it unchanged. It implements the protocol the camera relies on (QUERYCAP, ENUM_*, S_FMT,
 // S_PARM, REQBUFS, QUERYBUF, mmap, QBUF, DQBUF, STREAMON/OFF, poll) and checks the caller's side
-// of it (buffer ownership, unmapping before freeing). Faults are scripted by frame index.
+// of it (buffer ownership, unmapping before freeing). Faults are scripted by frame index. Source
+// changes (a capture device whose input changes resolution) raise V4L2_EVENT_SOURCE_CHANGE for
+// subscribed handles, with POLLPRI, VIDIOC_DQEVENT and G_FMT reporting the new size.
 
 #include <linux/videodev2.h>
 
@@ -49,6 +51,11 @@ struct FakeV4l2Config {
   std::optional<uint64_t> unplug_at;         // device disappears instead of producing this frame
   bool unplug_fails_poll = false;    // after unplug poll() fails with ENODEV (else POLLERR|POLLHUP)
   std::optional<uint64_t> stall_at;  // no more frames until resume()
+  // The source changes to this size instead of producing this frame normally: the frame is
+  // produced at the new size (into the old buffers when it fits, else flagged ERROR), an event
+  // is queued, and S_FMT answers the new size from then on (until change_source()).
+  std::optional<uint64_t> source_change_at;
+  std::pair<uint32_t, uint32_t> source_change_to{16, 32};
 };
 
 /// The YUYV byte the fake writes at (byte column x, row y) of frame `sequence`: tests recompute
@@ -68,11 +75,14 @@ class FakeV4l2Device final : public V4l2Syscalls {
 
   void replug();  ///< the node comes back (a new device instance, sequence from 0)
   void resume();  ///< frames flow again after a scripted stall
+  /// The source now has this size (S_FMT answers it), with an event for subscribed handles.
+  void change_source(uint32_t width, uint32_t height);
 
   int open_fds() const;
   int mapped_buffers() const;
   uint64_t frames_produced() const;
   uint64_t qbuf_calls() const;
+  uint64_t events_raised() const;
   bool streaming() const;
   v4l2_pix_format last_requested_format() const;
   std::optional<std::pair<uint32_t, uint32_t>> last_timeperframe() const;
@@ -89,7 +99,9 @@ class FakeV4l2Device final : public V4l2Syscalls {
   int ioctl_locked(int fd, unsigned long request, void* arg);
   bool produce_locked();  // fills the oldest queued buffer; false when it cannot
   void unplug_locked();
+  void change_source_locked(uint32_t width, uint32_t height);
   std::size_t frame_bytes_locked() const;
+  short pending_locked(const pollfd& p) const;  // POLLPRI when p asked for it and an event waits
 
   FakeV4l2Config config_;
   mutable std::mutex mutex_;
@@ -109,6 +121,11 @@ class FakeV4l2Device final : public V4l2Syscalls {
   uint64_t produced_ = 0;  // frame index across the device's life (for scripted faults)
   uint32_t sequence_ = 0;  // per device instance, as drivers do
   uint64_t qbuf_calls_ = 0;
+  std::optional<std::pair<uint32_t, uint32_t>> source_size_;  // after a source change
+  std::set<int> subscribed_;                                  // fds with SOURCE_CHANGE events
+  std::map<int, std::deque<v4l2_event>> pending_events_;
+  uint32_t event_sequence_ = 0;
+  uint64_t events_raised_ = 0;
 };
 
 }  // namespace hd::drivers::testing

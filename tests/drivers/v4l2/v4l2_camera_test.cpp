@@ -63,6 +63,35 @@ void expect_pixels_match_pattern(const Frame& f, int bytes_per_line_pad = 0) {
   }
 }
 
+// Pixels of `f` off the fake's pattern for device sequence `device_seq` by more than 1.
+int pattern_mismatches(const Frame& f, uint64_t device_seq) {
+  int bad = 0;
+  for (int y = 0; y < f.height; ++y) {
+    for (int x = 0; x < f.width; ++x) {
+      const uint32_t pair = static_cast<uint32_t>(x / 2) * 4;
+      const double Y = testing::fake_yuyv_byte(device_seq, pair + (x % 2) * 2, y);
+      const double U = testing::fake_yuyv_byte(device_seq, pair + 1, y);
+      const double V = testing::fake_yuyv_byte(device_seq, pair + 3, y);
+      const double c = (Y - 16) * 255.0 / 219.0;
+      const double d = (U - 128) * 255.0 / 224.0;
+      const double e = (V - 128) * 255.0 / 224.0;
+      const double ref[3] = {c + 1.402 * e, c - 0.344136 * d - 0.714136 * e, c + 1.772 * d};
+      const uint8_t* px = &f.data[static_cast<std::size_t>(y * f.stride_bytes + x * 4)];
+      for (int ch = 0; ch < 3; ++ch)
+        bad += std::abs(px[ch] - std::clamp(std::round(ref[ch]), 0.0, 255.0)) > 1.0;
+    }
+  }
+  return bad;
+}
+
+// After a reopen the fake's own sequence runs ahead of the published one (the frames it made
+// while the camera was closed or refusing): the image must be the pattern of one of them.
+bool matches_a_later_device_frame(const Frame& f) {
+  for (uint64_t s = f.sequence; s < f.sequence + 64; ++s)
+    if (pattern_mismatches(f, s) == 0) return true;
+  return false;
+}
+
 TEST(V4l2Camera, NegotiatesTheRequestedModeAndSetsTheRate) {
   FakeV4l2Config cfg;
   cfg.modes = {{V4L2_PIX_FMT_YUYV, 32, 16, {{1, 30}, {1, 60}}},
@@ -100,6 +129,152 @@ TEST(V4l2Camera, AdoptsADriverThatChangesTheSize) {
   EXPECT_EQ(f.width, 24);
   EXPECT_EQ(f.height, 8);
   expect_pixels_match_pattern(f);
+  cam.stop();
+}
+
+TEST(V4l2CameraFormat, NegotiateSetsTheRequestedSizeAndSaysWhatTheDriverDelivers) {
+  FakeV4l2Config cfg;
+  cfg.modes = {{V4L2_PIX_FMT_YUYV, 32, 16, {{1, 30}}}, {V4L2_PIX_FMT_YUYV, 64, 32, {{1, 30}}}};
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  const CameraFormatRequest want{64, 32, {PixelFormat::kYuyv, PixelFormat::kMjpeg}, 30.0};
+  const FormatNegotiation n = cam.negotiate(want);
+  EXPECT_EQ(fake.last_requested_format().width, 64u);
+  EXPECT_EQ(fake.last_requested_format().height, 32u);
+  EXPECT_EQ(n.delivered.width_px, 64);
+  EXPECT_EQ(n.delivered.height_px, 32);
+  EXPECT_EQ(n.delivered.pixel_format, PixelFormat::kYuyv);
+  EXPECT_DOUBLE_EQ(n.delivered.frame_rate_hz, 30.0);
+  EXPECT_EQ(n.refused, "");
+  EXPECT_EQ(n.limits, "32x16 YUYV, 64x32 YUYV");
+  EXPECT_TRUE(judge_format(want, n).ok);
+  EXPECT_TRUE(cam.source_change_events());
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.frames().fetch(); }));
+  EXPECT_EQ(cam.frames().latest().width, 64);
+  expect_pixels_match_pattern(cam.frames().latest());
+  cam.stop();
+}
+
+TEST(V4l2CameraFormat, ASizeTheDriverAdjustsIsReportedAndRefusedByTheRule) {
+  FakeV4l2Config cfg;
+  cfg.force_size = std::make_pair(24u, 8u);  // S_FMT answers another size than asked
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  const CameraFormatRequest want{32, 16, {}, 0.0};
+  const FormatNegotiation n = cam.negotiate(want);
+  EXPECT_EQ(n.delivered.width_px, 24);
+  EXPECT_EQ(n.delivered.height_px, 8);
+  EXPECT_EQ(n.refused, "VIDIOC_S_FMT 32x16 YUYV answered 24x8 YUYV");
+  const FormatVerdict v = judge_format(want, n);
+  EXPECT_FALSE(v.ok);
+  EXPECT_EQ(v.problem,
+            "delivers 24x8, not the requested 32x16 (VIDIOC_S_FMT 32x16 YUYV answered 24x8 YUYV); "
+            "it can deliver 32x16 YUYV");
+}
+
+TEST(V4l2CameraFormat, ASizeTheDeviceDoesNotOfferIsRefusedByTheRule) {
+  FakeV4l2Config cfg;  // offers 32x16 YUYV only
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  const CameraFormatRequest want{640, 480, {}, 0.0};
+  const FormatNegotiation n = cam.negotiate(want);
+  EXPECT_EQ(n.delivered.width_px, 32);
+  EXPECT_EQ(n.refused, "it offers no 640x480 mode");
+  EXPECT_FALSE(judge_format(want, n).ok);
+  // A format this driver cannot convert is refused at once.
+  EXPECT_THROW(cam.negotiate({32, 16, {PixelFormat::kMono8}, 0.0}), DeviceError);
+}
+
+// A source change mid-stream to a size with the same byte count (16x32 for 32x16: only the
+// event can tell) and to a larger one (flagged buffers).
+class V4l2CameraSourceChange : public ::testing::TestWithParam<std::pair<uint32_t, uint32_t>> {};
+
+TEST_P(V4l2CameraSourceChange, LeavesStreamingAtOnceWithAnEventAndPublishesNoFrameOfTheNewSize) {
+  FakeV4l2Config cfg;
+  cfg.source_change_at = 5;
+  cfg.source_change_to = GetParam();
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  ASSERT_TRUE(judge_format({32, 16, {}, 0.0}, cam.negotiate({32, 16, {}, 0.0})).ok);
+  Mailbox<Frame>* mailbox = &cam.frames();
+  const int64_t t0 = monotonic_now_ns();
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.state() == SourceState::kFormatMismatch; }));
+  EXPECT_EQ(fake.events_raised(), 1u);
+  FormatEvent lost;
+  ASSERT_TRUE(cam.pop_format_event(lost));
+  EXPECT_EQ(lost.kind, FormatEventKind::kLost);
+  EXPECT_EQ(lost.cause, FormatEventCause::kSourceChange);
+  EXPECT_EQ(lost.expected.width_px, 32);
+  EXPECT_EQ(lost.expected.height_px, 16);
+  EXPECT_EQ(lost.seen.width_px, static_cast<int>(GetParam().first));
+  EXPECT_EQ(lost.seen.height_px, static_cast<int>(GetParam().second));
+  EXPECT_GE(lost.time_ns, t0);
+  EXPECT_LE(lost.time_ns, monotonic_now_ns());
+  EXPECT_NE(cam.last_error().find("V4L2_EVENT_SOURCE_CHANGE"), std::string::npos)
+      << cam.last_error();
+  // Frames 0..4 only: the one produced at the new size never reached the mailbox.
+  EXPECT_EQ(cam.frames().published(), 5u);
+  ASSERT_TRUE(cam.frames().fetch());
+  EXPECT_EQ(cam.frames().latest().sequence, 4u);
+  expect_pixels_match_pattern(cam.frames().latest());
+  // Reopening finds the new size each time: still unusable, still nothing published.
+  const uint64_t tries = cam.reopen_attempts();
+  ASSERT_TRUE(wait_until([&] { return cam.reopen_attempts() >= tries + 3; }));
+  EXPECT_EQ(cam.state(), SourceState::kFormatMismatch);
+  EXPECT_EQ(cam.frames().published(), 5u);
+  FormatEvent e;
+  EXPECT_FALSE(cam.pop_format_event(e)) << "one event per loss, not one per try";
+
+  fake.change_source(32, 16);  // the source is back at the negotiated size
+  ASSERT_TRUE(wait_until([&] { return cam.state() == SourceState::kStreaming; }));
+  ASSERT_TRUE(cam.pop_format_event(e));
+  EXPECT_EQ(e.kind, FormatEventKind::kRestored);
+  EXPECT_GE(e.time_ns, lost.time_ns);
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 8; }));
+  EXPECT_EQ(&cam.frames(), mailbox);
+  ASSERT_TRUE(cam.frames().fetch());
+  const Frame& f = cam.frames().latest();
+  EXPECT_EQ(f.width, 32);
+  EXPECT_GT(f.sequence, 4u);
+  EXPECT_TRUE(matches_a_later_device_frame(f));
+  cam.stop();
+  EXPECT_EQ(fake.open_fds(), 0);
+  EXPECT_EQ(fake.mapped_buffers(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(SameBytesOrLarger, V4l2CameraSourceChange,
+                         ::testing::Values(std::make_pair(16u, 32u), std::make_pair(64u, 64u)),
+                         [](const auto& info) {
+                           return std::to_string(info.param.first) + "x" +
+                                  std::to_string(info.param.second);
+                         });
+
+TEST(V4l2CameraFormat, ANodeThatReturnsWithAnotherSizeIsAMismatchUntilItIsRightAgain) {
+  FakeV4l2Config cfg;
+  cfg.unplug_at = 5;
+  FakeV4l2Device fake(cfg);
+  V4l2Camera cam(cfg.path, fast_options(), fake);
+  cam.negotiate({32, 16, {}, 0.0});
+  cam.start();
+  ASSERT_TRUE(wait_until([&] { return cam.state() == SourceState::kDisconnected; }));
+  FormatEvent e;
+  EXPECT_FALSE(cam.pop_format_event(e)) << "an unplug is not a format change";
+  fake.change_source(16, 32);  // it comes back configured for another size
+  fake.replug();
+  ASSERT_TRUE(wait_until([&] { return cam.state() == SourceState::kFormatMismatch; }));
+  ASSERT_TRUE(cam.pop_format_event(e));
+  EXPECT_EQ(e.kind, FormatEventKind::kLost);
+  EXPECT_EQ(e.cause, FormatEventCause::kReconnect);
+  EXPECT_EQ(e.seen.width_px, 16);
+  EXPECT_EQ(e.seen.height_px, 32);
+  EXPECT_EQ(cam.frames().published(), 5u);
+  fake.change_source(32, 16);
+  ASSERT_TRUE(wait_until([&] { return cam.state() == SourceState::kStreaming; }));
+  ASSERT_TRUE(cam.pop_format_event(e));
+  EXPECT_EQ(e.kind, FormatEventKind::kRestored);
+  ASSERT_TRUE(wait_until([&] { return cam.frames().published() >= 8; }));
   cam.stop();
 }
 

@@ -1,0 +1,46 @@
+#pragma once
+// The cameras' format events as the run reports them: taken between frames (never inside the
+// tick), printed as a line at the time they are seen, and kept for summary.json.
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "drivers/camera_source.h"
+
+namespace hd::station {
+
+/// One FormatEvent of one camera, in the run's words.
+struct CameraEventRecord {
+  std::string camera;    ///< the camera's name in the station file
+  std::string kind;      ///< "format_lost" or "format_restored"
+  std::string cause;     ///< "frame", "source change", "reconnect"
+  int64_t time_ns = 0;   ///< CLOCK_MONOTONIC, the driver's time of the event
+  double t_s = 0.0;      ///< seconds since the loop started (negative: during start-up)
+  std::string expected;  ///< the negotiated format, e.g. "640x480 Mono8 at 30 Hz"
+  std::string seen;      ///< what the device delivers now ("size unknown" when it did not say)
+};
+
+class CameraEventLog {
+ public:
+  /// Lines go to `out`; times are reported relative to `start_ns` (CLOCK_MONOTONIC).
+  CameraEventLog(std::FILE* out, int64_t start_ns) : out_(out), start_ns_(start_ns) {}
+
+  /// Takes every pending event of each camera (`names[i]` names `cameras[i]`) and prints it.
+  void poll(const std::vector<drivers::CameraSource*>& cameras,
+            const std::vector<std::string>& names);
+
+  const std::vector<CameraEventRecord>& events() const { return events_; }
+
+  /// "event   +6.234 s camera front: format lost (reconnect): delivers 512x512 Mono8, not the
+  /// negotiated 320x240 Mono8 at 30 Hz; unusable until it does"
+  static std::string line(const CameraEventRecord& r);
+
+ private:
+  std::FILE* out_;
+  int64_t start_ns_;
+  std::vector<CameraEventRecord> events_;
+};
+
+}  // namespace hd::station
