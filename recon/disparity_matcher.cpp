@@ -85,10 +85,14 @@ void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Ma
   }
   const int cn = l_.channels();
 
+  // Every kind searches from disparity 0, whatever the configured minimum: a surface farther
+  // than the range then finds its true (too small) disparity, which the filter drops, instead of
+  // the best wrong one inside the range (measured: a textured wall at 20 m with a 0.58..7.5 m
+  // range gave 16 % of the image confidently wrong depths when the search started at 8 px).
   if (c.kind == MatcherKind::kBm) {
-    const int num = round_up_16(c.num_disparities_px);
+    const int num = round_up_16(c.max_disparity_px());
     if (!bm_) bm_ = cv::StereoBM::create(num, c.block_size_px);
-    bm_->setMinDisparity(c.min_disparity_px);
+    bm_->setMinDisparity(0);
     bm_->setNumDisparities(num);
     bm_->setBlockSize(c.block_size_px);
     bm_->setPreFilterCap(31);
@@ -99,8 +103,8 @@ void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Ma
     scale_x_ = 1.0;
     coarse_num_ = num;
     cv::Mat d16;
-    match_padded(*bm_, l_, r_, c.min_disparity_px + num, d16);
-    to_float(d16, c.min_disparity_px, 1.0f, disparity);
+    match_padded(*bm_, l_, r_, num, d16);
+    to_float(d16, 0, 1.0f, disparity);
     return;
   }
 
@@ -113,7 +117,7 @@ void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Ma
   }
   const double sx = static_cast<double>(l_.cols) / small.width;
   const double sy = static_cast<double>(l_.rows) / small.height;
-  const int min_c = static_cast<int>(std::floor(c.min_disparity_px / sx));
+  const int min_c = 0;
   const int max_c = static_cast<int>(std::ceil(c.max_disparity_px() / sx));
   const int num_c = round_up_16(std::max(16, max_c - min_c));
   if (!sgbm_ || sgbm_cn_ != cn || sgbm_min_ != min_c || sgbm_num_ != num_c) {

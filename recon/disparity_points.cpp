@@ -15,11 +15,11 @@ DisparityToWorld::DisparityToWorld(const Rectification& rect) {
   M_ = T * M_left_;
 }
 
-std::optional<double> DisparityToWorld::left_depth_m(double x, double y, double d) const {
+std::optional<Eigen::Vector3d> DisparityToWorld::left_point(double x, double y, double d) const {
   if (!(d > 0.0) || !(d < kMaxDisparityPx)) return std::nullopt;
   const Eigen::Vector4d h = M_left_ * Eigen::Vector4d(x, y, d, 1.0);
   if (!(h.w() > 0.0)) return std::nullopt;
-  return h.z() / h.w();
+  return Eigen::Vector3d(h.head<3>() / h.w());
 }
 
 }  // namespace hd::recon

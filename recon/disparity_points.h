@@ -24,8 +24,8 @@ class DisparityToWorld {
     return h.head<3>() / h.w();
   }
 
-  /// Depth of (x, y, d) along the left camera's own z axis (nothing as point()).
-  std::optional<double> left_depth_m(double x, double y, double d) const;
+  /// The same point in the left camera's own frame (nothing as point()).
+  std::optional<Eigen::Vector3d> left_point(double x, double y, double d) const;
 
  private:
   static constexpr double kMaxDisparityPx = 1e6;

@@ -22,9 +22,11 @@ MatcherKind matcher_kind_from_string(std::string_view s);
 /// Disparities are in full-resolution rectified pixels, d = x_left - x_right > 0.
 struct MatcherConfig {
   MatcherKind kind = MatcherKind::kSgbmScaled;
-  /// The search range [min_disparity_px, min_disparity_px + num_disparities_px). The minimum
+  /// The accepted range [min_disparity_px, min_disparity_px + num_disparities_px). The minimum
   /// must be >= 1: d = 0 is a point at infinity and never a measurement. The far end of the range
   /// (depth f B / min) and its near end (f B / max) bound where depth can be measured at all.
+  /// The matcher itself searches from 0 to the maximum (rounded up to OpenCV's multiple of 16),
+  /// so that surfaces beyond the far end match where they are and are then dropped.
   int min_disparity_px = 1;
   int num_disparities_px = 112;
   /// kSgbmScaled: the image scale the matcher works at (0.25..1). The coarse range is rounded up

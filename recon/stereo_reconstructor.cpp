@@ -119,8 +119,9 @@ void StereoReconstructor::reconstruct(const StereoImage& left, const StereoImage
   matcher_.compute(out.left_rectified, right_rect_, out.disparity);
   out.stats.match_ms = ms_since(t);
   t = std::chrono::steady_clock::now();
-  out.stats.filter =
-      filter_disparity(left_grey_, matcher_.config(), config_.filter, out.disparity, scratch_);
+  cv::cvtColor(right_rect_, right_grey_, cv::COLOR_BGR2GRAY);
+  out.stats.filter = filter_disparity(left_grey_, right_grey_, matcher_.config(), config_.filter,
+                                      out.disparity, scratch_);
   out.stats.filter_ms = ms_since(t);
   const double pixels = static_cast<double>(out.disparity.total());
   out.stats.density = out.stats.filter.known / pixels;
@@ -139,7 +140,6 @@ void StereoReconstructor::reconstruct(const StereoImage& left, const StereoImage
   out.stats.triangles = out.mesh.triangles.size();
   if (config_.measure_row_error) {
     t = std::chrono::steady_clock::now();
-    cv::cvtColor(right_rect_, right_grey_, cv::COLOR_BGR2GRAY);
     out.stats.row_error = measure_row_error(left_grey_, right_grey_, out.disparity);
     out.stats.row_error_ms = ms_since(t);
   }

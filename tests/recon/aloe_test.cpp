@@ -16,7 +16,7 @@ namespace {
 using namespace hd::recon;
 
 struct Aloe {
-  cv::Mat left, right, grey, truth, mask;
+  cv::Mat left, right, grey, right_grey, truth, mask;
 };
 
 // Half of Middlebury's full size; the ground truth (full-size pixels) is halved with it.
@@ -34,6 +34,7 @@ Aloe load_aloe() {
   cv::resize(l, a.left, half, 0, 0, cv::INTER_AREA);
   cv::resize(r, a.right, half, 0, 0, cv::INTER_AREA);
   cv::cvtColor(a.left, a.grey, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(a.right, a.right_grey, cv::COLOR_BGR2GRAY);
   cv::Mat gh;
   cv::resize(g, gh, half, 0, 0, cv::INTER_NEAREST);
   gh.convertTo(a.truth, CV_32F, 0.5);
@@ -55,7 +56,8 @@ DisparityScore run(const Aloe& a, MatcherKind kind, FilterCounts* counts = nullp
   cv::Mat d;
   m.compute(a.left, a.right, d);
   FilterScratch scratch;
-  const FilterCounts n = filter_disparity(a.grey, m.config(), FilterConfig{}, d, scratch);
+  const FilterCounts n =
+      filter_disparity(a.grey, a.right_grey, m.config(), FilterConfig{}, d, scratch);
   if (counts) *counts = n;
   return score_disparity(d, a.truth, a.mask, 2.0);
 }

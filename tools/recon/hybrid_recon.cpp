@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -68,6 +69,8 @@ Camera read_camera(const std::string& path) {
 
 cv::Mat read_image(const std::string& path, const hd::core::Pinhole& cam,
                    const std::string& calib_path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw BadInput(path + ": no such image file");
   const cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
   if (img.empty()) throw BadInput(path + ": cannot read the image (missing or not an image)");
   if (img.cols != cam.width || img.rows != cam.height)
@@ -158,9 +161,9 @@ int main(int argc, char** argv) {
         s.prepare_ms, s.match_ms, s.filter_ms, s.mesh_ms, s.row_error_ms, s.total_ms);
     std::printf(
         "density %.1f %% (known disparities / rectified pixels); unknown: unmatched %d, "
-        "out of range %d, textureless %d, speckles %d\n",
+        "out of range %d, textureless %d, uncorrelated %d, speckles %d\n",
         100.0 * s.density, s.filter.unmatched, s.filter.out_of_range, s.filter.textureless,
-        s.filter.speckles);
+        s.filter.uncorrelated, s.filter.speckles);
     if (s.row_error.measured())
       std::printf(
           "row error: median %+.3f px, median |dy| %.3f px, p90 |dy| %.3f px over %d "
