@@ -78,8 +78,10 @@ class StereoReconstructor {
   double farthest_m() const { return rect_.depth_m(config_.matcher.min_disparity_px); }
   double overlap() const { return overlap_; }
 
-  /// Reconstructs one pair into `out` (its buffers reused). A refused pair leaves the status and
-  /// message, an empty mesh, and does not count as the newest pair.
+  /// Reconstructs one pair into `out` (its buffers reused). A pair refused before matching
+  /// (missing, wrongly sized, unsynchronised, not newer) leaves the status and message and an
+  /// empty mesh and does not count as the newest pair; a pair matched without a valid disparity
+  /// (kNoValidDisparity) does count: it was measured, and showed nothing.
   void reconstruct(const StereoImage& left, const StereoImage& right, Reconstruction& out);
 
  private:

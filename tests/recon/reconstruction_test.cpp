@@ -202,6 +202,8 @@ TEST(Reconstruction, DisparityZeroOrBelowTheMinimumIsUnknownNeverInfinite) {
   StereoReconstructor r(rig, test_config());
   const Pair fp = render(far, rig);
   const Reconstruction rec = run(r, fp);
+  std::printf("wall at 20 m: %s, density %.3f %%\n", std::string(to_string(rec.status)).c_str(),
+              100 * rec.stats.density);
   EXPECT_TRUE(rec.status == PairStatus::kNoValidDisparity || rec.stats.density < 0.01)
       << to_string(rec.status) << " density " << rec.stats.density;
   if (rec.status == PairStatus::kOk) {
