@@ -29,7 +29,8 @@ The left image's pixels index the reconstruction; the right camera must be to it
 Output: a binary PLY mesh (float x y z in metres, workspace frame; uchar red green blue from the
 left image; triangle faces), written whole or not at all. --disparity also writes the filtered
 disparity of the rectified left image as a 16-bit PNG (value = disparity * 16, 0 = unknown).
-Exit codes: 0 ok, 2 bad input (message names the file), 1 the output could not be written.)";
+Exit codes: 0 ok, 2 bad input (message names the file), 1 the output could not be written or
+the reconstruction failed.)";
 
 struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -194,6 +195,9 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::cerr << "hybrid-recon: " << e.what() << "\n";
     return kExitBadInput;
+  } catch (const std::exception& e) {  // OpenCV or the allocator: no crash, a message
+    std::cerr << "hybrid-recon: reconstruction failed: " << e.what() << "\n";
+    return kExitFailed;
   }
   return 0;
 }
