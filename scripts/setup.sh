@@ -18,6 +18,10 @@ packages=(
   libepoxy-dev libglfw3-dev libgl1-mesa-dri libegl-mesa0 libegl-dev xvfb xauth
   # devices: HID head trackers, USB enumeration/hotplug, GigE (Aravis 0.8 + fake camera), V4L2 headers
   libhidapi-dev libusb-1.0-0-dev libaravis-dev aravis-tools linux-libc-dev libv4l-dev
+  # the network hop: GStreamer 1.22 (rtpbin, RTP header extensions, x264, libav, srtp, netsim)
+  libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstreamer-plugins-bad1.0-dev
+  gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good gstreamer1.0-plugins-bad
+  gstreamer1.0-plugins-ugly gstreamer1.0-libav
 )
 
 SUDO=""
