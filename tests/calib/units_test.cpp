@@ -207,7 +207,8 @@ TEST(LiveCapture, CollectsDistinctViewsAndSaysWhenEnough) {
   opt.target_views = 8;
   opt.min_grid_fraction = 0.5;
   opt.min_size_ratio = 1.5;
-  opt.max_duration = std::chrono::milliseconds(3000);
+  // The limit bounds a hang only: on a loaded machine collecting the views is slow.
+  opt.max_duration = std::chrono::milliseconds(120000);
   opt.detector.check_larger = false;  // the board size is known here; keeps the ASan run short
   std::vector<std::string> lines;
   const auto res =

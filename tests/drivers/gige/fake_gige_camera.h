@@ -87,7 +87,7 @@ class FakeGigeCamera {
     }
     // Ready when it answers GVCP on its control port, and is still the one running there.
     GvcpLivenessProbe probe("127.0.0.1");
-    for (int i = 0; i < 250; ++i) {
+    for (int i = 0; i < 1000; ++i) {
       if (!child_alive()) return false;
       if (probe.ping(50'000'000) == GvcpLivenessProbe::Answer::kAlive && child_alive()) return true;
       std::this_thread::sleep_for(std::chrono::milliseconds(20));

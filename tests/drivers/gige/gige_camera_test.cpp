@@ -46,7 +46,7 @@ GigeConfig config(PixelFormat format, int w, int h, double fps) {
 }
 
 // Waits for a frame newer than `after`; the mailbox keeps the newest one only.
-bool next_frame(GigeCamera& cam, uint64_t after, std::chrono::milliseconds timeout = 2000ms) {
+bool next_frame(GigeCamera& cam, uint64_t after, std::chrono::milliseconds timeout = 30000ms) {
   const auto end = std::chrono::steady_clock::now() + timeout;
   while (std::chrono::steady_clock::now() < end) {
     if (cam.frames().fetch() && cam.frames().latest().sequence > after) return true;
@@ -56,7 +56,7 @@ bool next_frame(GigeCamera& cam, uint64_t after, std::chrono::milliseconds timeo
 }
 
 // Waits for a condition the stream thread brings about; the limit only bounds a hang.
-bool wait_until(const std::function<bool()>& done, std::chrono::milliseconds limit = 15000ms) {
+bool wait_until(const std::function<bool()>& done, std::chrono::milliseconds limit = 60000ms) {
   const auto end = std::chrono::steady_clock::now() + limit;
   while (!done()) {
     if (std::chrono::steady_clock::now() > end) return false;
@@ -250,7 +250,7 @@ TEST(GigeCameraFormat, ReconnectWithOtherSettingsIsAMismatchUntilTheFormatIsRigh
   EXPECT_EQ(restored.kind, FormatEventKind::kRestored);
   EXPECT_EQ(restored.cause, FormatEventCause::kReconnect);
   EXPECT_GT(restored.time_ns, lost.time_ns);
-  ASSERT_TRUE(next_frame(cam, cam.frames().latest().sequence, 5000ms));
+  ASSERT_TRUE(next_frame(cam, cam.frames().latest().sequence));
   EXPECT_EQ(&cam.frames(), mailbox);
   const Frame& f = cam.frames().latest();
   EXPECT_EQ(f.width, 320);
@@ -453,13 +453,13 @@ TEST(GigeCamera, CameraThatComesBackIsReopenedAndTheSequenceContinues) {
   fake.reset();  // killed
   const int64_t killed_ns = monotonic_now_ns();
   while (cam.state() != SourceState::kDisconnected &&
-         monotonic_now_ns() - killed_ns < 3'000'000'000)
+         monotonic_now_ns() - killed_ns < 30'000'000'000)
     std::this_thread::sleep_for(5ms);
   ASSERT_EQ(cam.state(), SourceState::kDisconnected);
   cam.frames().fetch();
   const uint64_t before = cam.frames().latest().sequence;
   fake = std::make_unique<testing::FakeGigeCamera>();  // a new process: its ids restart
-  ASSERT_TRUE(next_frame(cam, before, 5000ms)) << "not reopened";
+  ASSERT_TRUE(next_frame(cam, before)) << "not reopened";
   EXPECT_EQ(cam.state(), SourceState::kStreaming);
   EXPECT_EQ(&cam.frames(), mailbox) << "the consumer's mailbox must survive a reconnect";
   EXPECT_EQ(cam.stats().reconnects, 1u);
@@ -479,7 +479,7 @@ TEST(GigeCamera, SlowButLiveCameraIsStalledNotDisconnected) {
   c.stall_timeout_ns = 200'000'000;
   GigeCamera cam(c);
   cam.start();
-  ASSERT_TRUE(next_frame(cam, 0, 3000ms));
+  ASSERT_TRUE(next_frame(cam, 0));
   const uint64_t first = cam.frames().latest().sequence;
   bool saw_stalled = false;
   const auto end = std::chrono::steady_clock::now() + 2500ms;
@@ -491,7 +491,7 @@ TEST(GigeCamera, SlowButLiveCameraIsStalledNotDisconnected) {
   }
   EXPECT_TRUE(saw_stalled);
   EXPECT_GE(cam.stats().liveness_probes, 1u);
-  ASSERT_TRUE(next_frame(cam, first, 2000ms));  // the next frame arrives and streaming resumes
+  ASSERT_TRUE(next_frame(cam, first));  // the next frame arrives and streaming resumes
   EXPECT_EQ(cam.state(), SourceState::kStreaming);
   cam.stop();
 }

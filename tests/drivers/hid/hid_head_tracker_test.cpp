@@ -18,10 +18,10 @@ namespace {
 
 using Bytes = std::vector<uint8_t>;
 
-// Polls a condition for up to 10 s: waits for the read thread, asserts nothing about speed.
+// Polls a condition for up to 60 s: waits for the read thread, asserts nothing about speed.
 template <class F>
 bool eventually(F f) {
-  for (int i = 0; i < 2000; ++i) {
+  for (int i = 0; i < 12000; ++i) {
     if (f()) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }

@@ -22,7 +22,7 @@ using testing::FakeV4l2Config;
 using testing::FakeV4l2Device;
 
 // Waits for a condition the capture thread will bring about; the limit only bounds a hang.
-bool wait_until(const std::function<bool()>& done, int limit_ms = 5000) {
+bool wait_until(const std::function<bool()>& done, int limit_ms = 60000) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(limit_ms);
   while (!done()) {
     if (std::chrono::steady_clock::now() > end) return false;
