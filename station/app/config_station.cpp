@@ -94,6 +94,9 @@ std::string format_refusal(const CameraConfig& cc, const drivers::FormatNegotiat
     case calib::CameraKind::kMock:
       how = "give it the id mock:" + calibrated;
       break;
+    case calib::CameraKind::kRtp:
+      how = "make the sender send " + calibrated;
+      break;
   }
   return "calibrated at " + calibrated + " (" + cc.calibration_file + "), but the camera " +
          verdict.problem + ". Recalibrate it at " + delivered +
