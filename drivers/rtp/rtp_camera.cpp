@@ -3,6 +3,8 @@
 #include <gst/app/gstappsink.h>
 #include <gst/video/video.h>
 
+#include <time.h>
+
 #include <chrono>
 #include <cstring>
 #include <mutex>
@@ -27,6 +29,15 @@ std::string pending_error(GstElement* pipeline) {
   }
   gst_object_unref(bus);
   return text;
+}
+
+// CLOCK_REALTIME - CLOCK_MONOTONIC now, ns (the two read back to back).
+int64_t realtime_minus_monotonic_ns() {
+  timespec r{}, m{};
+  ::clock_gettime(CLOCK_REALTIME, &r);
+  ::clock_gettime(CLOCK_MONOTONIC, &m);
+  return (int64_t(r.tv_sec) - int64_t(m.tv_sec)) * 1'000'000'000LL +
+         (int64_t(r.tv_nsec) - int64_t(m.tv_nsec));
 }
 
 }  // namespace
@@ -70,8 +81,10 @@ FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
              std::to_string(config_.listen.port + 1) + "), jitter buffer " +
              std::to_string(config_.jitter_buffer_latency_ms) + " ms, NACK " +
              (config_.retransmission ? "on" : "off") +
-             "; p_c from the station's calibration file; capture time = arrival time (a plain "
-             "RTP sender stamps no capture time)";
+             "; p_c from the station's calibration file; capture time = arrival time for a "
+             "plain RTP sender (it stamps none), the sender's ntp-64 stamp for hybrid-remote "
+             "(sender's CLOCK_REALTIME mapped through this host's: same host or NTP/PTP-"
+             "synchronised hosts assumed)";
   return n;
 }
 
@@ -97,6 +110,12 @@ void RtpCamera::build() {
   gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::rtp_probe_cb, this, nullptr);
   gst_object_unref(pad);
   gst_object_unref(src);
+
+  GstElement* depay = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kDepayloader);
+  pad = gst_element_get_static_pad(depay, "sink");
+  gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::depay_probe_cb, this, nullptr);
+  gst_object_unref(pad);
+  gst_object_unref(depay);
 
   GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kAppSink);
   GstAppSinkCallbacks callbacks{};
@@ -211,6 +230,43 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
   return GST_PAD_PROBE_OK;
 }
 
+GstPadProbeReturn RtpCamera::depay_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self) {
+  static_cast<RtpCamera*>(self)->on_depay_packet(GST_PAD_PROBE_INFO_BUFFER(info));
+  return GST_PAD_PROBE_OK;
+}
+
+void RtpCamera::on_depay_packet(GstBuffer* buffer) {
+  GstMapInfo map;
+  if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return;
+  RtpPacketView view;
+  RtpFrameStamp stamp;
+  StampError e = StampError::kNoNtp;
+  const bool parsed =
+      parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view) == RtpPacketError::kNone;
+  if (parsed && view.has_extension) e = read_frame_stamp(view, stamp);
+  gst_buffer_unmap(buffer, &map);
+  if (!parsed || !view.has_extension) return;  // a plain sender: nothing to read
+  if (e != StampError::kNone) {
+    stamp_errors_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  if (stamp.camera) {
+    last_camera_index_.store(stamp.camera->camera_index, std::memory_order_relaxed);
+    last_revision_.store(stamp.camera->calibration_revision, std::memory_order_relaxed);
+  }
+  const GstClockTime pts = GST_BUFFER_PTS(buffer);
+  if (!GST_CLOCK_TIME_IS_VALID(pts)) return;
+  const int64_t capture_mono = *stamp.capture_unix_ns - realtime_minus_monotonic_ns();
+  std::lock_guard lock(stamp_mutex_);
+  for (StampSlot& s : stamps_)
+    if (s.pts == pts) {
+      s.capture_mono_ns = capture_mono;
+      return;
+    }
+  stamps_[stamp_next_] = {pts, capture_mono};
+  stamp_next_ = (stamp_next_ + 1) % stamps_.size();
+}
+
 GstFlowReturn RtpCamera::new_sample_cb(GstElement* sink, gpointer self) {
   static_cast<RtpCamera*>(self)->on_sample(sink);
   return GST_FLOW_OK;
@@ -289,10 +345,32 @@ void RtpCamera::on_sample(GstElement* sink) {
     const int64_t t = static_cast<int64_t>(pts + base);
     if (t <= now) arrival_ns = t;  // never later than now: a time in the future is not honest
   }
+  int64_t capture_ns = 0;
+  bool stamped = false;
+  if (GST_CLOCK_TIME_IS_VALID(pts)) {
+    std::lock_guard lock(stamp_mutex_);
+    for (const StampSlot& s : stamps_)
+      if (s.pts == pts) {
+        capture_ns = s.capture_mono_ns;
+        stamped = true;
+      }
+  }
   slot.sequence = ++sequence_;
-  slot.host_timestamp_ns = arrival_ns;
-  slot.device_timestamp_ns = arrival_ns;
-  slot.device_time_trusted = false;
+  if (stamped) {
+    stamped_.fetch_add(1, std::memory_order_relaxed);
+    if (capture_ns > arrival_ns) {
+      capture_after_arrival_.fetch_add(1, std::memory_order_relaxed);
+      capture_ns = arrival_ns;
+    }
+    slot.host_timestamp_ns = capture_ns;
+    slot.device_timestamp_ns = capture_ns;
+    slot.device_time_trusted = true;
+  } else {
+    unstamped_.fetch_add(1, std::memory_order_relaxed);
+    slot.host_timestamp_ns = arrival_ns;
+    slot.device_timestamp_ns = arrival_ns;
+    slot.device_time_trusted = false;
+  }
   gst_sample_unref(sample);
   mailbox_->publish();
   frames_published_.fetch_add(1, std::memory_order_relaxed);
@@ -315,6 +393,13 @@ RtpCameraStats RtpCamera::stats() const {
   s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
   s.bus_errors = bus_errors_.load(std::memory_order_relaxed);
   s.restarts = restarts_.load(std::memory_order_relaxed);
+  s.stamped_frames = stamped_.load(std::memory_order_relaxed);
+  s.unstamped_frames = unstamped_.load(std::memory_order_relaxed);
+  s.capture_after_arrival = capture_after_arrival_.load(std::memory_order_relaxed);
+  for (std::size_t i = 0; i < s.stamp_errors.size(); ++i)
+    s.stamp_errors[i] = stamp_errors_[i].load(std::memory_order_relaxed);
+  s.last_camera_index = last_camera_index_.load(std::memory_order_relaxed);
+  s.last_calibration_revision = last_revision_.load(std::memory_order_relaxed);
   std::lock_guard lock(error_mutex_);
   s.last_error = last_error_;
   return s;

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "drivers/camera_source.h"
+#include "drivers/rtp/rtp_frame_stamp.h"
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
 
@@ -27,6 +28,16 @@ struct RtpCameraStats {
   uint64_t frames_published = 0;
   uint64_t wrong_format = 0;  ///< decoded frames of another size than negotiated (not published)
   uint64_t bus_errors = 0;    ///< GStreamer errors (each restarts the pipeline)
+  /// Frames with the sender's capture time (hybrid-remote) / with their arrival time instead.
+  uint64_t stamped_frames = 0;
+  uint64_t unstamped_frames = 0;
+  /// Stamped frames whose mapped capture time lay after their arrival (the two clocks disagree):
+  /// stamped with the arrival instead.
+  uint64_t capture_after_arrival = 0;
+  /// Packets with header extensions whose stamp was refused, by reason (StampError).
+  std::array<uint64_t, static_cast<std::size_t>(StampError::kCount)> stamp_errors{};
+  int last_camera_index = -1;  ///< from the camera-state element; -1 none seen
+  int64_t last_calibration_revision = -1;
   uint64_t restarts = 0;
   std::string last_error;  ///< the newest bus error's text ("" none)
 };
@@ -41,10 +52,14 @@ struct RtpCameraStats {
 /// is never published: the state becomes kFormatMismatch with a FormatEvent. open() without a
 /// size learns it from the first frame.
 ///
-/// Time: a plain sender says nothing about when it captured a frame, so a frame's host time is
-/// its arrival: the jitter buffer's output time of its packets (udpsrc's arrival stamps, with the
-/// jitter buffer's skew estimate) on the pipeline clock, which is CLOCK_MONOTONIC.
-/// device_time_trusted is false.
+/// Time: a frame stamped by hybrid-remote (rtp_frame_stamp.h: ntp-64 on every packet) carries
+/// its capture time on the sender's CLOCK_REALTIME; it is mapped onto CLOCK_MONOTONIC through
+/// this host's realtime - monotonic offset, which is exact on one machine and as good as the
+/// two hosts' clock synchronisation (NTP/PTP) otherwise; device_time_trusted is then true. A
+/// mapped time after the frame's arrival is impossible and replaced by the arrival (counted). A
+/// plain sender says nothing about when it captured a frame, so its host time is its arrival:
+/// the jitter buffer's output time of its packets (udpsrc's arrival stamps, with the jitter
+/// buffer's skew estimate) on the pipeline clock, which is CLOCK_MONOTONIC; not trusted.
 ///
 /// Liveness: no frame for stall_timeout_ns makes the state kStalled; a GStreamer error makes it
 /// kDisconnected, is counted with its text, and the pipeline is rebuilt after 0.5 s.
@@ -80,6 +95,8 @@ class RtpCamera final : public CameraSource {
   void bus_loop();
   void on_sample(GstElement* sink);
   GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
+  void on_depay_packet(GstBuffer* buffer);
+  static GstPadProbeReturn depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
   static GstFlowReturn new_sample_cb(GstElement* sink, gpointer self);
   static GstPadProbeReturn rtp_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
   static GstElement* request_aux_receiver_cb(GstElement* rtpbin, guint session, gpointer self);
@@ -106,6 +123,19 @@ class RtpCamera final : public CameraSource {
   std::atomic<uint64_t> wrong_format_{0};
   std::atomic<uint64_t> bus_errors_{0};
   std::atomic<uint64_t> restarts_{0};
+  std::atomic<uint64_t> stamped_{0}, unstamped_{0}, capture_after_arrival_{0};
+  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(StampError::kCount)> stamp_errors_{};
+  std::atomic<int> last_camera_index_{-1};
+  std::atomic<int64_t> last_revision_{-1};
+  // Capture times by buffer PTS, from the depayloader's input (after the jitter buffer) to the
+  // decoded frame (the decoder keeps PTS). Fixed size: a few frames in flight at most.
+  struct StampSlot {
+    uint64_t pts = ~0ull;
+    int64_t capture_mono_ns = 0;
+  };
+  std::mutex stamp_mutex_;
+  std::array<StampSlot, 16> stamps_{};
+  std::size_t stamp_next_ = 0;
   mutable std::mutex error_mutex_;
   std::string last_error_;
   FormatEventRing events_;

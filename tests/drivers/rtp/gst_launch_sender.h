@@ -50,13 +50,10 @@ inline std::string plain_sender_pipeline(uint16_t port) {
          std::to_string(port);
 }
 
-/// Runs `gst-launch-1.0 -q PIPELINE` until destroyed (SIGINT, then wait).
-class GstLaunch {
+/// A child process (argv[0] looked up in PATH) killed and reaped when destroyed.
+class ChildProcess {
  public:
-  explicit GstLaunch(const std::string& pipeline) {
-    std::vector<std::string> words{"gst-launch-1.0", "-q"};
-    std::istringstream in(pipeline);
-    for (std::string w; in >> w;) words.push_back(w);
+  explicit ChildProcess(std::vector<std::string> words) {
     pid_ = ::fork();
     if (pid_ == 0) {
       std::vector<char*> argv;
@@ -66,9 +63,9 @@ class GstLaunch {
       ::_exit(127);
     }
   }
-  ~GstLaunch() { stop(); }
-  GstLaunch(const GstLaunch&) = delete;
-  GstLaunch& operator=(const GstLaunch&) = delete;
+  ~ChildProcess() { stop(); }
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
   void stop() {
     if (pid_ <= 0) return;
     ::kill(pid_, SIGKILL);
@@ -80,6 +77,20 @@ class GstLaunch {
 
  private:
   pid_t pid_ = -1;
+};
+
+/// Runs `gst-launch-1.0 -q PIPELINE` until destroyed.
+class GstLaunch : public ChildProcess {
+ public:
+  explicit GstLaunch(const std::string& pipeline) : ChildProcess(words(pipeline)) {}
+
+ private:
+  static std::vector<std::string> words(const std::string& pipeline) {
+    std::vector<std::string> w{"gst-launch-1.0", "-q"};
+    std::istringstream in(pipeline);
+    for (std::string x; in >> x;) w.push_back(x);
+    return w;
+  }
 };
 
 }  // namespace hd::drivers::testing
