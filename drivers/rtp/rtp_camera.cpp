@@ -76,15 +76,17 @@ FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
   n.delivered = format_;
   n.delivered.width_px = 0;  // a stream cannot be asked for a size: known at its first frame
   n.delivered.height_px = 0;
-  n.detail = "RTP H.264 listening on " + config_.listen.host + ":" +
-             std::to_string(config_.listen.port) + " (RTCP " +
-             std::to_string(config_.listen.port + 1) + "), jitter buffer " +
-             std::to_string(config_.jitter_buffer_latency_ms) + " ms, NACK " +
-             (config_.retransmission ? "on" : "off") +
-             "; p_c from the station's calibration file; capture time = arrival time for a "
-             "plain RTP sender (it stamps none), the sender's ntp-64 stamp for hybrid-remote "
-             "(sender's CLOCK_REALTIME mapped through this host's: same host or NTP/PTP-"
-             "synchronised hosts assumed)";
+  n.detail =
+      "RTP H.264 listening on " + config_.listen.host + ":" + std::to_string(config_.listen.port) +
+      " (RTCP " + std::to_string(config_.listen.port + 1) + "), jitter buffer " +
+      std::to_string(config_.jitter_buffer_latency_ms) + " ms, NACK " +
+      (config_.retransmission ? "on" : "off") +
+      "; p_c from the station's calibration file; capture time = arrival time for a "
+      "plain RTP sender (it stamps none), the sender's ntp-64 stamp for hybrid-remote "
+      "(sender's CLOCK_REALTIME mapped through this host's: same host or NTP/PTP-"
+      "synchronised hosts assumed)" +
+      (config_.srtp_key ? "; SRTP AES-128-GCM required (key file " + config_.srtp_key->file + ")"
+                        : std::string("; no encryption (no key_file)"));
   return n;
 }
 
@@ -110,6 +112,21 @@ void RtpCamera::build() {
   gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::rtp_probe_cb, this, nullptr);
   gst_object_unref(pad);
   gst_object_unref(src);
+
+  if (config_.srtp_key) {
+    GstElement* dec = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kSrtpDecoder);
+    g_signal_connect(dec, "request-key", G_CALLBACK(&RtpCamera::request_key_cb), this);
+    GstPad* out = gst_element_get_static_pad(dec, "rtp_src");
+    gst_pad_add_probe(
+        out, GST_PAD_PROBE_TYPE_BUFFER,
+        [](GstPad*, GstPadProbeInfo*, gpointer self) {
+          static_cast<RtpCamera*>(self)->decrypted_.fetch_add(1, std::memory_order_relaxed);
+          return GST_PAD_PROBE_OK;
+        },
+        this, nullptr);
+    gst_object_unref(out);
+    gst_object_unref(dec);
+  }
 
   GstElement* depay = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kDepayloader);
   pad = gst_element_get_static_pad(depay, "sink");
@@ -227,7 +244,19 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
     malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
     return GST_PAD_PROBE_DROP;
   }
+  well_formed_.fetch_add(1, std::memory_order_relaxed);
   return GST_PAD_PROBE_OK;
+}
+
+GstCaps* RtpCamera::request_key_cb(GstElement*, guint, gpointer self) {
+  const SrtpKey& key = *static_cast<RtpCamera*>(self)->config_.srtp_key;
+  GstBuffer* k = gst_buffer_new_memdup(key.bytes.data(), key.bytes.size());
+  GstCaps* caps = gst_caps_new_simple("application/x-srtp", "srtp-key", GST_TYPE_BUFFER, k,
+                                      "srtp-cipher", G_TYPE_STRING, "aes-128-gcm", "srtp-auth",
+                                      G_TYPE_STRING, "null", "srtcp-cipher", G_TYPE_STRING,
+                                      "aes-128-gcm", "srtcp-auth", G_TYPE_STRING, "null", nullptr);
+  gst_buffer_unref(k);
+  return caps;
 }
 
 GstPadProbeReturn RtpCamera::depay_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self) {
@@ -355,13 +384,19 @@ void RtpCamera::on_sample(GstElement* sink) {
         stamped = true;
       }
   }
+  if (stamped && capture_ns > arrival_ns) {
+    capture_after_arrival_.fetch_add(1, std::memory_order_relaxed);
+    capture_ns = arrival_ns;
+  }
+  if ((stamped ? capture_ns : arrival_ns) <= last_published_capture_ns_) {
+    not_newer_.fetch_add(1, std::memory_order_relaxed);
+    gst_sample_unref(sample);
+    return;
+  }
+  last_published_capture_ns_ = stamped ? capture_ns : arrival_ns;
   slot.sequence = ++sequence_;
   if (stamped) {
     stamped_.fetch_add(1, std::memory_order_relaxed);
-    if (capture_ns > arrival_ns) {
-      capture_after_arrival_.fetch_add(1, std::memory_order_relaxed);
-      capture_ns = arrival_ns;
-    }
     slot.host_timestamp_ns = capture_ns;
     slot.device_timestamp_ns = capture_ns;
     slot.device_time_trusted = true;
@@ -376,6 +411,15 @@ void RtpCamera::on_sample(GstElement* sink) {
   frames_published_.fetch_add(1, std::memory_order_relaxed);
   last_frame_ns_.store(now, std::memory_order_relaxed);
   state_.store(SourceState::kStreaming, std::memory_order_release);
+}
+
+bool RtpCamera::set_netsim_drop_probability(double p) {
+  if (pipeline_ == nullptr || !config_.netsim()) return false;
+  GstElement* n = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kNetsim);
+  if (n == nullptr) return false;
+  g_object_set(n, "drop-probability", static_cast<gfloat>(p), nullptr);
+  gst_object_unref(n);
+  return true;
 }
 
 uint64_t RtpCamera::dropped_frames() const {
@@ -396,8 +440,15 @@ RtpCameraStats RtpCamera::stats() const {
   s.stamped_frames = stamped_.load(std::memory_order_relaxed);
   s.unstamped_frames = unstamped_.load(std::memory_order_relaxed);
   s.capture_after_arrival = capture_after_arrival_.load(std::memory_order_relaxed);
+  s.not_newer = not_newer_.load(std::memory_order_relaxed);
   for (std::size_t i = 0; i < s.stamp_errors.size(); ++i)
     s.stamp_errors[i] = stamp_errors_[i].load(std::memory_order_relaxed);
+  if (config_.srtp_key) {
+    s.srtp_decrypted = decrypted_.load(std::memory_order_relaxed);
+    const uint64_t in = well_formed_.load(std::memory_order_relaxed);
+    // Packets in srtpdec's hands a moment ago count as neither: rejected never grows from them.
+    s.srtp_rejected = in > s.srtp_decrypted ? in - s.srtp_decrypted : 0;
+  }
   s.last_camera_index = last_camera_index_.load(std::memory_order_relaxed);
   s.last_calibration_revision = last_revision_.load(std::memory_order_relaxed);
   std::lock_guard lock(error_mutex_);

@@ -34,8 +34,15 @@ struct RtpCameraStats {
   /// Stamped frames whose mapped capture time lay after their arrival (the two clocks disagree):
   /// stamped with the arrival instead.
   uint64_t capture_after_arrival = 0;
+  /// Decoded frames not newer than the last published one (a late or repeated frame): never
+  /// published, so old video is never presented as new.
+  uint64_t not_newer = 0;
   /// Packets with header extensions whose stamp was refused, by reason (StampError).
   std::array<uint64_t, static_cast<std::size_t>(StampError::kCount)> stamp_errors{};
+  /// With a key: packets srtpdec authenticated and decrypted / that failed (a wrong key, or a
+  /// sender without encryption): never decoded, never shown.
+  uint64_t srtp_decrypted = 0;
+  uint64_t srtp_rejected = 0;
   int last_camera_index = -1;  ///< from the camera-state element; -1 none seen
   int64_t last_calibration_revision = -1;
   uint64_t restarts = 0;
@@ -85,6 +92,9 @@ class RtpCamera final : public CameraSource {
   Mailbox<Frame>& frames() override { return *mailbox_; }
 
   RtpCameraStats stats() const;
+  /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
+  /// link. False when there is no netsim in the path.
+  bool set_netsim_drop_probability(double p);
   const RtpReceiveConfig& config() const { return config_; }
   /// The pipeline as built (for the start report and docs).
   std::string pipeline_description() const;
@@ -99,7 +109,7 @@ class RtpCamera final : public CameraSource {
   static GstPadProbeReturn depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
   static GstFlowReturn new_sample_cb(GstElement* sink, gpointer self);
   static GstPadProbeReturn rtp_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
-  static GstElement* request_aux_receiver_cb(GstElement* rtpbin, guint session, gpointer self);
+  static GstCaps* request_key_cb(GstElement* srtpdec, guint ssrc, gpointer self);
 
   RtpReceiveConfig config_;
   CameraFormat format_;  // negotiated: expected size, H.264 on the wire
@@ -123,7 +133,9 @@ class RtpCamera final : public CameraSource {
   std::atomic<uint64_t> wrong_format_{0};
   std::atomic<uint64_t> bus_errors_{0};
   std::atomic<uint64_t> restarts_{0};
-  std::atomic<uint64_t> stamped_{0}, unstamped_{0}, capture_after_arrival_{0};
+  std::atomic<uint64_t> well_formed_{0}, decrypted_{0};
+  std::atomic<uint64_t> stamped_{0}, unstamped_{0}, capture_after_arrival_{0}, not_newer_{0};
+  int64_t last_published_capture_ns_ = 0;  // streaming thread
   std::array<std::atomic<uint64_t>, static_cast<std::size_t>(StampError::kCount)> stamp_errors_{};
   std::atomic<int> last_camera_index_{-1};
   std::atomic<int64_t> last_revision_{-1};

@@ -2,9 +2,11 @@
 // Settings of the station's network camera (one RTP H.264 stream), as data.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "drivers/rtp/rtp_uri.h"
+#include "drivers/rtp/srtp_key.h"
 
 namespace hd::drivers {
 
@@ -23,8 +25,14 @@ struct RtpReceiveConfig {
   double netsim_drop_probability = 0.0;
   int netsim_min_delay_ms = 0;
   int netsim_max_delay_ms = 0;
+  /// With a key the stream must be SRTP (AES-128-GCM, media and RTCP): every packet that fails
+  /// authentication (a wrong key, or a sender without encryption) is dropped and counted.
+  std::optional<SrtpKey> srtp_key;
+  /// netsim in the path even with no loss or delay (so a test can cut the link while running).
+  bool netsim_always = false;
   bool netsim() const {
-    return netsim_drop_probability > 0.0 || netsim_max_delay_ms > 0 || netsim_min_delay_ms > 0;
+    return netsim_always || netsim_drop_probability > 0.0 || netsim_max_delay_ms > 0 ||
+           netsim_min_delay_ms > 0;
   }
 };
 

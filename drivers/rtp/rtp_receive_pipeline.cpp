@@ -15,14 +15,18 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
   // A frame buffered past its deadline is of no use: the jitter buffer does not grow beyond
   // the latency.
   d += "drop-on-latency=true ";
-  d += std::string("udpsrc name=") + kRtpSource + " address=" + host + " port=" + port +
-       " reuse=false" +
-       " caps=\"application/x-rtp,media=video,clock-rate=90000,encoding-name=H264,payload=" +
-       std::to_string(c.payload_type) + "\" ";
+  d +=
+      std::string("udpsrc name=") + kRtpSource + " address=" + host + " port=" + port +
+      " reuse=false" + " caps=\"application/x-" + (c.srtp_key ? "srtp" : "rtp") +
+      ",media=video,clock-rate=90000,encoding-name=H264,payload=" + std::to_string(c.payload_type) +
+      "\" ";
+  if (c.srtp_key)
+    d += std::string("! ") + kSrtpDecoder + ".rtp_sink srtpdec name=" + kSrtpDecoder + " " +
+         kSrtpDecoder + ".rtp_src ";
   if (c.netsim()) {
     char p[32];
     std::snprintf(p, sizeof p, "%.6f", c.netsim_drop_probability);
-    d += std::string("! netsim drop-probability=") + p +
+    d += std::string("! netsim name=") + kNetsim + " drop-probability=" + p +
          " min-delay=" + std::to_string(c.netsim_min_delay_ms) +
          " max-delay=" + std::to_string(c.netsim_max_delay_ms) + " delay-distribution=uniform ";
   }

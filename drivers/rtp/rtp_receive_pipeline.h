@@ -16,12 +16,16 @@ inline constexpr const char* kRtcpSource = "rtcp_src";
 inline constexpr const char* kRtcpSink = "rtcp_sink";
 inline constexpr const char* kDepayloader = "depay";
 inline constexpr const char* kAppSink = "sink";
+inline constexpr const char* kSrtpDecoder = "srtpdec";
+inline constexpr const char* kNetsim = "netsim";
 }  // namespace rtp_elements
 
 /// udpsrc (RTP) [→ netsim] → rtpbin (jitter buffer, NACK/RTX) → rtph264depay (asks for a key
 /// frame on loss) → avdec_h264 (one thread: no frame-threading delay) → videoconvert → RGBA →
 /// appsink (no clock sync, newest frame only); udpsrc (RTCP) → rtpbin → multiudpsink (RTCP
-/// receiver reports and feedback to wherever the sender's RTCP comes from).
+/// receiver reports and feedback to wherever the sender's RTCP comes from). With a key, srtpdec
+/// sits between both udpsrcs and rtpbin; the key is not in the description (the camera hands it
+/// to srtpdec's request-key signal), so the description can be shown.
 std::string receive_pipeline_description(const RtpReceiveConfig& c);
 
 }  // namespace hd::drivers

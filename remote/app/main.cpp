@@ -7,12 +7,14 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/rtp_uri.h"
+#include "drivers/rtp/srtp_key.h"
 #include "remote/sender/rtp_sender.h"
 #include "sim/scene/config_error.h"
 #include "sim/scene/scene_file.h"
@@ -55,6 +57,10 @@ int main(int argc, char** argv) {
                  "joins or loses packets shows video again")
       ->capture_default_str()
       ->check(CLI::Range(0.05, 10.0));
+  std::string key_file;
+  app.add_option("--key-file", key_file,
+                 "pre-shared SRTP key (56 hex digits: AES-128-GCM key + salt), readable by its "
+                 "owner only; media and RTCP are then encrypted and authenticated");
   CLI11_PARSE(app, argc, argv);
 
   std::string why;
@@ -62,6 +68,15 @@ int main(int argc, char** argv) {
   if (!address) {
     std::fprintf(stderr, "hybrid-remote: --to: %s\n", why.c_str());
     return 2;
+  }
+  std::optional<hd::drivers::SrtpKey> key;
+  if (!key_file.empty()) {
+    try {
+      key = hd::drivers::read_srtp_key_file(key_file);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hybrid-remote: --key-file: %s\n", e.what());
+      return 2;
+    }
   }
   std::unique_ptr<hd::sim::Simulation> sim;
   try {
@@ -86,6 +101,7 @@ int main(int argc, char** argv) {
     c.key_interval_s = key_interval_s;
     c.camera_index = static_cast<uint8_t>(i);
     c.calibration_revision = 1;  // the scene's calibration is fixed for the run
+    c.srtp_key = key;
     auto s = std::make_unique<hd::remote::RtpSender>(c);
     try {
       s->start();
@@ -103,6 +119,9 @@ int main(int argc, char** argv) {
         c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps, i, c.calibration_revision);
     senders.push_back(std::move(s));
   }
+  std::printf("  security: %s\n",
+              key ? ("SRTP AES-128-GCM on media and RTCP, key file " + key->file).c_str()
+                  : "none: RTP in the clear (no --key-file)");
   std::printf("  p_c: not sent; give the station the same calibration (issue 12 item 1, open)\n");
   std::fflush(stdout);
 

@@ -2,7 +2,10 @@
 // Settings of one camera's outgoing stream at the remote site (hybrid-remote), as data.
 
 #include <cstdint>
+#include <optional>
 #include <string>
+
+#include "drivers/rtp/srtp_key.h"
 
 namespace hd::remote {
 
@@ -21,6 +24,8 @@ struct RtpSendConfig {
   int mtu_bytes = 1200;  ///< below any path's MTU, with room for the header extensions
   uint8_t camera_index = 0;
   uint32_t calibration_revision = 0;
+  /// With a key: SRTP AES-128-GCM (srtpenc) on media and RTCP.
+  std::optional<drivers::SrtpKey> srtp_key;
 
   int key_int_frames() const;  ///< key_interval_s in frames, at least 1
   int vbv_buffer_ms() const;   ///< one frame period, rounded up: VBV of about one frame

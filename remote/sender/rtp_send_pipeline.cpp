@@ -33,10 +33,16 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
        " config-interval=-1 pt=" + std::to_string(c.payload_type) +
        " mtu=" + std::to_string(c.mtu_bytes) + " ";
   d += std::string("! ") + kRtpBin + ".send_rtp_sink_0 ";
-  d += std::string(kRtpBin) + ".send_rtp_src_0 ! udpsink host=" + c.host +
-       " port=" + std::to_string(c.port) + " sync=false async=false ";
-  d += std::string(kRtpBin) + ".send_rtcp_src_0 ! udpsink host=" + c.host +
-       " port=" + std::to_string(c.port + 1) + " sync=false async=false";
+  const std::string enc = kSrtpEncoder;
+  if (c.srtp_key)
+    d += "srtpenc name=" + enc +
+         " rtp-cipher=aes-128-gcm rtp-auth=null rtcp-cipher=aes-128-gcm rtcp-auth=null ";
+  d += std::string(kRtpBin) + ".send_rtp_src_0 ! " +
+       (c.srtp_key ? enc + ".rtp_sink_0 " + enc + ".rtp_src_0 ! " : std::string()) +
+       "udpsink host=" + c.host + " port=" + std::to_string(c.port) + " sync=false async=false ";
+  d += std::string(kRtpBin) + ".send_rtcp_src_0 ! " +
+       (c.srtp_key ? enc + ".rtcp_sink_0 " + enc + ".rtcp_src_0 ! " : std::string()) +
+       "udpsink host=" + c.host + " port=" + std::to_string(c.port + 1) + " sync=false async=false";
   return d;
 }
 

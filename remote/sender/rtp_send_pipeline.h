@@ -13,11 +13,13 @@ inline constexpr const char* kAppSource = "src";
 inline constexpr const char* kEncoder = "enc";
 inline constexpr const char* kPayloader = "pay";
 inline constexpr const char* kRtpBin = "rtpbin";
+inline constexpr const char* kSrtpEncoder = "srtpenc";
 }  // namespace send_elements
 
 /// appsrc (RGBA, live, the newest 2 frames) → videoconvert → I420 → x264enc (zerolatency,
 /// ultrafast, no B-frames, key frame every key_int_frames, VBV one frame) → rtph264pay (SPS/PPS
-/// with every IDR) → rtpbin (RTCP sender reports) → udpsink host:port; RTCP → udpsink port + 1.
+/// with every IDR) → rtpbin (RTCP sender reports) → [srtpenc] → udpsink host:port; RTCP →
+/// [srtpenc] → udpsink port + 1. The key is not in the description (RtpSender sets it).
 std::string send_pipeline_description(const RtpSendConfig& c);
 
 }  // namespace hd::remote

@@ -59,6 +59,14 @@ void RtpSender::start() {
     gst_object_unref(clock);
     appsrc_ = by_name(pipeline_, send_elements::kAppSource);
 
+    if (config_.srtp_key) {
+      GstElement* enc = by_name(pipeline_, send_elements::kSrtpEncoder);
+      GstBuffer* key =
+          gst_buffer_new_memdup(config_.srtp_key->bytes.data(), config_.srtp_key->bytes.size());
+      g_object_set(enc, "key", key, nullptr);
+      gst_buffer_unref(key);
+      gst_object_unref(enc);
+    }
     GstElement* pay = by_name(pipeline_, send_elements::kPayloader);
     GstElement* ntp = gst_element_factory_make("rtphdrextntp64", nullptr);
     if (ntp == nullptr)

@@ -4,6 +4,7 @@
 // says its p_c comes from the station's calibration file and its capture time is its arrival.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -89,30 +90,45 @@ class StationProcess {
   int code_ = -1;
 };
 
-TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("station_rtp_camera_test_" + std::to_string(::getpid()));
+// A station file in a new folder `dir` with one network camera `id`, calibrated at the plain
+// sender's size (videotestsrc: 320x240; the mock station's calibration with its size changed),
+// with `key_line` ("" or "    key_file: ...\n").
+void write_station(const fs::path& dir, const std::string& id, const std::string& key_line) {
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const uint16_t port = hd::drivers::testing::free_rtp_port();
-  ASSERT_NE(port, 0);
-  const std::string id = "rtp://127.0.0.1:" + std::to_string(port);
-  // The mock station's calibration at the plain sender's size (videotestsrc: 320x240).
   std::string cal = slurp(fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml");
   cal = replaced(cal, "image_width: 640", "image_width: 320");
   cal = replaced(cal, "image_height: 480", "image_height: 240");
   std::ofstream(dir / "cam.yaml") << cal;
-  std::ofstream(dir / "station.yaml") << "cameras:\n"
-                                         "  - name: net\n"
-                                         "    id: "
-                                      << id
-                                      << "\n"
-                                         "    calibration: cam.yaml\n"
-                                         "    d_m: 1.5\n"
-                                         "tracker: {id: mock}\n"
-                                         "display: {stereo: false, eye: {width: 160, height: 120, "
-                                         "fx: 130}}\n"
-                                         "workspace: {min_m: [-1, -1, 0.5], max_m: [1, 1, 2]}\n";
+  std::ofstream(dir / "station.yaml")
+      << "cameras:\n  - name: net\n    id: " << id << "\n    calibration: cam.yaml\n    d_m: 1.5\n"
+      << key_line
+      << "tracker: {id: mock}\n"
+         "display: {stereo: false, eye: {width: 160, height: 120, "
+         "fx: 130}}\n"
+         "workspace: {min_m: [-1, -1, 0.5], max_m: [1, 1, 2]}\n";
+}
+
+fs::path test_dir(const std::string& name) {
+  return fs::temp_directory_path() /
+         ("station_rtp_camera_test_" + std::to_string(::getpid()) + "_" + name);
+}
+
+void write_key(const fs::path& file, mode_t mode) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  ASSERT_GE(fd, 0);
+  const char* hex = "000102030405060708090a0b0c0d0e0f101112131415161718191a1b\n";
+  ASSERT_EQ(::write(fd, hex, 57), 57);
+  ::fchmod(fd, mode);
+  ::close(fd);
+}
+
+TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
+  const fs::path dir = test_dir("plain");
+  const uint16_t port = hd::drivers::testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  const std::string id = "rtp://127.0.0.1:" + std::to_string(port);
+  write_station(dir, id, "");
   const fs::path out = dir / "out";
   StationProcess station({"run", "--config", (dir / "station.yaml").string(), "--headless",
                           "--seconds", "6", "--out", out.string()},
@@ -131,6 +147,48 @@ TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
   EXPECT_GT(s["cameras"][0]["frames_shown"].get<uint64_t>(), 0u) << s.dump(1);
   EXPECT_EQ(s["cameras"][0]["frames_rejected"].get<uint64_t>(), 0u);
   EXPECT_GT(s["variant_frames"]["video"].get<uint64_t>(), 0u) << s.dump(1);
+  if (!::testing::Test::HasFailure()) fs::remove_all(dir);
+}
+
+TEST(StationRtpCamera, WithAKeyTheUnencryptedSenderIsNeverShownAndTheReportNamesTheKeyFile) {
+  const fs::path dir = test_dir("keyed");
+  const uint16_t port = hd::drivers::testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  const std::string id = "rtp://127.0.0.1:" + std::to_string(port);
+  write_station(dir, id, "    key_file: station.key\n");
+  write_key(dir / "station.key", 0600);
+  const fs::path out = dir / "out";
+  StationProcess station({"run", "--config", (dir / "station.yaml").string(), "--headless",
+                          "--seconds", "4", "--out", out.string()},
+                         dir / "stderr.txt");
+  ASSERT_TRUE(station.read_until("net (" + id + ")")) << station.out() << slurp(dir / "stderr.txt");
+  GstLaunch sender(hd::drivers::testing::plain_sender_pipeline(port));
+  ASSERT_EQ(station.wait(), 0) << station.out() << slurp(dir / "stderr.txt");
+  EXPECT_NE(station.out().find("SRTP AES-128-GCM required (key file " +
+                               (dir / "station.key").string() + ")"),
+            std::string::npos)
+      << station.out();
+  EXPECT_EQ(station.out().find("000102030405"), std::string::npos);
+  const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(s["cameras"][0]["frames_shown"].get<uint64_t>(), 0u) << s.dump(1);
+  EXPECT_EQ(s["variant_frames"]["video"].get<uint64_t>(), 0u) << s.dump(1);
+  if (!::testing::Test::HasFailure()) fs::remove_all(dir);
+}
+
+TEST(StationRtpCamera, AKeyFileOthersCanReadRefusesTheCamera) {
+  const fs::path dir = test_dir("open_key");
+  const uint16_t port = hd::drivers::testing::free_rtp_port();
+  const std::string id = "rtp://127.0.0.1:" + std::to_string(port);
+  write_station(dir, id, "    key_file: station.key\n");
+  write_key(dir / "station.key", 0644);
+  StationProcess station({"run", "--config", (dir / "station.yaml").string(), "--headless",
+                          "--seconds", "2", "--out", (dir / "out").string()},
+                         dir / "stderr.txt");
+  EXPECT_EQ(station.wait(), 3) << station.out();
+  const std::string err = slurp(dir / "stderr.txt") + station.out();
+  EXPECT_NE(err.find("mode 0644"), std::string::npos) << err;
+  EXPECT_NE(err.find("chmod 600"), std::string::npos) << err;
+  EXPECT_EQ(err.find("000102030405"), std::string::npos) << err;
   if (!::testing::Test::HasFailure()) fs::remove_all(dir);
 }
 
