@@ -9,6 +9,10 @@
 #ifdef HD_CALIB_HAVE_MOCK
 #include "drivers/mock/mock_camera.h"
 #endif
+#ifdef HD_CALIB_HAVE_RTP
+#include "drivers/rtp/rtp_camera.h"
+#endif
+#include "drivers/rtp/rtp_uri.h"
 #ifdef HD_CALIB_HAVE_GIGE
 #include <arv.h>
 
@@ -44,6 +48,7 @@ bool parse_size(const std::string& s, int& w, int& h) {
 
 CameraKind camera_kind(const std::string& id) {
   if (id.rfind(kV4l2Prefix, 0) == 0) return CameraKind::kV4l2;
+  if (drivers::is_rtp_id(id)) return CameraKind::kRtp;
   if (id == kMockId || id.rfind(std::string(kMockId) + ":", 0) == 0) return CameraKind::kMock;
   return CameraKind::kGige;
 }
@@ -72,6 +77,18 @@ std::unique_ptr<drivers::CameraSource> make_camera_source(const std::string& id)
       return std::make_unique<drivers::MockCamera>(std::move(c));
 #else
       not_built(id, "mock camera");
+#endif
+    }
+    case CameraKind::kRtp: {
+#ifdef HD_CALIB_HAVE_RTP
+      std::string why;
+      const auto address = drivers::parse_rtp_uri(id, why);
+      if (!address) throw std::invalid_argument("malformed id " + id + ": " + why);
+      drivers::RtpReceiveConfig c;
+      c.listen = *address;
+      return std::make_unique<drivers::RtpCamera>(std::move(c));
+#else
+      not_built(id, "network camera (GStreamer RTP)");
 #endif
     }
     case CameraKind::kGige: {

@@ -1,7 +1,8 @@
 #pragma once
 // Turns a --camera id into the driver that serves it, so the calibration tool takes the same ids
 // as the station: "/dev/videoN" (V4L2), "mock" or "mock:WxH" (generated frames), anything else a
-// GigE Vision id for Aravis (e.g. "Aravis-Fake-SERIAL", "<vendor>-<serial>", an IP address).
+// GigE Vision id for Aravis (e.g. "Aravis-Fake-SERIAL", "<vendor>-<serial>", an IP address);
+// "rtp://HOST:PORT" the network camera (an RTP H.264 stream the station listens for).
 
 #include <memory>
 #include <string>
@@ -10,7 +11,7 @@
 
 namespace hd::calib {
 
-enum class CameraKind { kV4l2, kMock, kGige };
+enum class CameraKind { kV4l2, kMock, kGige, kRtp };
 
 /// Which driver `id` names. Never throws; an empty id is a GigE id that will fail to open.
 CameraKind camera_kind(const std::string& id);

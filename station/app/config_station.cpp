@@ -8,6 +8,8 @@
 #include "drivers/hid/hidapi_transport.h"
 #include "drivers/mock/mock_head_tracker_transport.h"
 #include "drivers/mock/mock_pose_source.h"
+#include "drivers/rtp/rtp_camera.h"
+#include "drivers/rtp/srtp_key.h"
 #include "drivers/usb/usb_id.h"
 #include "sim/scene/scene_file.h"
 #include "station/app/station_parts.h"
@@ -94,6 +96,9 @@ std::string format_refusal(const CameraConfig& cc, const drivers::FormatNegotiat
     case calib::CameraKind::kMock:
       how = "give it the id mock:" + calibrated;
       break;
+    case calib::CameraKind::kRtp:
+      how = "make the sender send " + calibrated;
+      break;
   }
   return "calibrated at " + calibrated + " (" + cc.calibration_file + "), but the camera " +
          verdict.problem + ". Recalibrate it at " + delivered +
@@ -105,7 +110,17 @@ void add_cameras(StationParts& p, const StationConfig& config) {
     const std::string label = cc.name + " (" + cc.id + ")";
     std::unique_ptr<drivers::CameraSource> device;
     try {
-      device = calib::make_camera_source(cc.id);
+      if (!cc.key_file.empty()) {
+        std::string why;
+        drivers::RtpReceiveConfig rc;
+        const auto address = drivers::parse_rtp_uri(cc.id, why);
+        if (!address) throw std::invalid_argument("malformed id " + cc.id + ": " + why);
+        rc.listen = *address;
+        rc.srtp_key = drivers::read_srtp_key_file(cc.key_file);
+        device = std::make_unique<drivers::RtpCamera>(std::move(rc));
+      } else {
+        device = calib::make_camera_source(cc.id);
+      }
     } catch (const std::exception& e) {
       p.report.missing("camera", label, e.what(), cc.optional);
       continue;

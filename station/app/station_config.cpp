@@ -27,10 +27,16 @@ CameraConfig read_camera(const sim::YamlFields& f, std::size_t index) {
   c.line = f.line();
   c.name = f.optional_string("name", "camera" + std::to_string(index));
   c.id = f.required_string("id");
-  if (c.id.empty()) f.fail("id", "empty; expected /dev/videoN, a GigE id or mock[:WxH]");
+  if (c.id.empty())
+    f.fail("id", "empty; expected /dev/videoN, a GigE id, rtp://HOST:PORT or mock[:WxH]");
   c.calibration_file = f.required_path("calibration");
   c.d_m = f.required_double("d_m", Range::positive());
   c.optional = f.optional_bool("optional", false);
+  if (auto k = f.optional_path("key_file")) {
+    if (c.id.rfind("rtp://", 0) != 0)
+      f.fail("key_file", "only a network camera (id rtp://HOST:PORT) takes a key file");
+    c.key_file = *k;
+  }
   std::optional<core::Pose> pose_override;
   if (auto p = f.optional_map("pose")) pose_override = read_pose(*p);
   f.finish();

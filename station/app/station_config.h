@@ -25,7 +25,10 @@ struct CameraConfig {
   core::Pose T_world_cam;        ///< from the calibration file, or `pose:` in station.yaml
   double d_m = 1.0;
   bool optional = false;  ///< a camera that cannot be opened is skipped instead of fatal
-  int line = 0;           ///< where it is in station.yaml, for messages
+  /// A network camera's pre-shared SRTP key file (resolved; "" = no encryption). Its stream
+  /// must then be SRTP with this key; anything else is rejected and counted.
+  std::string key_file;
+  int line = 0;  ///< where it is in station.yaml, for messages
 };
 
 /// The head tracker: "mock" (a simulated Android head tracker behind the real HID parser),

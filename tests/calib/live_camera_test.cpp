@@ -28,8 +28,10 @@ TEST(CameraFactory, ChoosesTheDriverFromTheId) {
   EXPECT_EQ(make_camera_source("/dev/video7")->id(), "/dev/video7");
   EXPECT_EQ(make_camera_source("Aravis-Fake-CALIB")->id(), "Aravis-Fake-CALIB");
   EXPECT_EQ(make_camera_source("mock:320x240")->id(), "mock:320x240");
-  for (const char* bad :
-       {"mock:", "mock:0x240", "mock:320x", "mock:x240", "mock:32ax240", "mock:99999x99999"})
+  EXPECT_EQ(camera_kind("rtp://127.0.0.1:5600"), CameraKind::kRtp);
+  EXPECT_EQ(make_camera_source("rtp://127.0.0.1:5600")->id(), "rtp://127.0.0.1:5600");
+  for (const char* bad : {"mock:", "mock:0x240", "mock:320x", "mock:x240", "mock:32ax240",
+                          "mock:99999x99999", "rtp://127.0.0.1", "rtp://127.0.0.1:5601"})
     EXPECT_THROW(make_camera_source(bad), std::invalid_argument) << bad;
 }
 

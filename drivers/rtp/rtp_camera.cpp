@@ -1,0 +1,459 @@
+#include "drivers/rtp/rtp_camera.h"
+
+#include <gst/app/gstappsink.h>
+#include <gst/video/video.h>
+
+#include <time.h>
+
+#include <chrono>
+#include <cstring>
+#include <mutex>
+
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/gstreamer_init.h"
+#include "drivers/rtp/rtp_receive_pipeline.h"
+
+namespace hd::drivers {
+namespace {
+
+// The newest error message on `bus`, or "" (for a start() that failed).
+std::string pending_error(GstElement* pipeline) {
+  GstBus* bus = gst_element_get_bus(pipeline);
+  std::string text;
+  while (GstMessage* m = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR)) {
+    GError* e = nullptr;
+    gst_message_parse_error(m, &e, nullptr);
+    if (e != nullptr) text = e->message;
+    g_clear_error(&e);
+    gst_message_unref(m);
+  }
+  gst_object_unref(bus);
+  return text;
+}
+
+// CLOCK_REALTIME - CLOCK_MONOTONIC now, ns (the two read back to back).
+int64_t realtime_minus_monotonic_ns() {
+  timespec r{}, m{};
+  ::clock_gettime(CLOCK_REALTIME, &r);
+  ::clock_gettime(CLOCK_MONOTONIC, &m);
+  return (int64_t(r.tv_sec) - int64_t(m.tv_sec)) * 1'000'000'000LL +
+         (int64_t(r.tv_nsec) - int64_t(m.tv_nsec));
+}
+
+}  // namespace
+
+RtpCamera::RtpCamera(RtpReceiveConfig config)
+    : config_(std::move(config)), mailbox_(std::make_unique<Mailbox<Frame>>()) {
+  format_.pixel_format = PixelFormat::kRgba8;
+}
+
+RtpCamera::~RtpCamera() {
+  stop();
+  teardown();
+}
+
+std::string RtpCamera::pipeline_description() const {
+  return receive_pipeline_description(config_);
+}
+
+void RtpCamera::open() {
+  ensure_gstreamer();
+  if (pipeline_ == nullptr) build();
+}
+
+FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
+  if (running_) throw DeviceError("camera " + id() + ": negotiate() after start()");
+  if (wanted.width_px > 0 && wanted.height_px > 0) {
+    format_.width_px = wanted.width_px;
+    format_.height_px = wanted.height_px;
+    Frame prototype;
+    prototype.allocate_rgba(wanted.width_px, wanted.height_px);
+    mailbox_ = std::make_unique<Mailbox<Frame>>(prototype);
+    sized_slots_ = 3;
+  }
+  open();
+  FormatNegotiation n;
+  n.delivered = format_;
+  n.delivered.width_px = 0;  // a stream cannot be asked for a size: known at its first frame
+  n.delivered.height_px = 0;
+  n.detail =
+      "RTP H.264 listening on " + config_.listen.host + ":" + std::to_string(config_.listen.port) +
+      " (RTCP " + std::to_string(config_.listen.port + 1) + "), jitter buffer " +
+      std::to_string(config_.jitter_buffer_latency_ms) + " ms, NACK " +
+      (config_.retransmission ? "on" : "off") +
+      "; p_c from the station's calibration file; capture time = arrival time for a "
+      "plain RTP sender (it stamps none), the sender's ntp-64 stamp for hybrid-remote "
+      "(sender's CLOCK_REALTIME mapped through this host's: same host or NTP/PTP-"
+      "synchronised hosts assumed)" +
+      (config_.srtp_key ? "; SRTP AES-128-GCM required (key file " + config_.srtp_key->file + ")"
+                        : std::string("; no encryption (no key_file)"));
+  return n;
+}
+
+void RtpCamera::build() {
+  GError* error = nullptr;
+  const std::string description = receive_pipeline_description(config_);
+  GstElement* p = gst_parse_launch(description.c_str(), &error);
+  if (p == nullptr || error != nullptr) {
+    const std::string why = error != nullptr ? error->message : "unknown error";
+    g_clear_error(&error);
+    if (p != nullptr) gst_object_unref(p);
+    throw DeviceError("camera " + id() + ": cannot build the receive pipeline: " + why);
+  }
+  pipeline_ = p;
+  // Frame times are read on this clock: CLOCK_MONOTONIC, the station's one clock.
+  GstClock* clock = GST_CLOCK(
+      g_object_new(GST_TYPE_SYSTEM_CLOCK, "clock-type", GST_CLOCK_TYPE_MONOTONIC, nullptr));
+  gst_pipeline_use_clock(GST_PIPELINE(pipeline_), clock);
+  gst_object_unref(clock);
+
+  GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpSource);
+  GstPad* pad = gst_element_get_static_pad(src, "src");
+  gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::rtp_probe_cb, this, nullptr);
+  gst_object_unref(pad);
+  gst_object_unref(src);
+
+  if (config_.srtp_key) {
+    GstElement* dec = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kSrtpDecoder);
+    g_signal_connect(dec, "request-key", G_CALLBACK(&RtpCamera::request_key_cb), this);
+    GstPad* out = gst_element_get_static_pad(dec, "rtp_src");
+    gst_pad_add_probe(
+        out, GST_PAD_PROBE_TYPE_BUFFER,
+        [](GstPad*, GstPadProbeInfo*, gpointer self) {
+          static_cast<RtpCamera*>(self)->decrypted_.fetch_add(1, std::memory_order_relaxed);
+          return GST_PAD_PROBE_OK;
+        },
+        this, nullptr);
+    gst_object_unref(out);
+    gst_object_unref(dec);
+  }
+
+  GstElement* depay = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kDepayloader);
+  pad = gst_element_get_static_pad(depay, "sink");
+  gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::depay_probe_cb, this, nullptr);
+  gst_object_unref(pad);
+  gst_object_unref(depay);
+
+  GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kAppSink);
+  GstAppSinkCallbacks callbacks{};
+  callbacks.new_sample = [](GstAppSink* s, gpointer self) {
+    return RtpCamera::new_sample_cb(GST_ELEMENT(s), self);
+  };
+  gst_app_sink_set_callbacks(GST_APP_SINK(sink), &callbacks, this, nullptr);
+  gst_object_unref(sink);
+}
+
+void RtpCamera::teardown() {
+  if (pipeline_ == nullptr) return;
+  gst_element_set_state(pipeline_, GST_STATE_NULL);
+  gst_object_unref(pipeline_);
+  pipeline_ = nullptr;
+}
+
+void RtpCamera::start() {
+  if (running_) return;
+  open();
+  if (gst_element_set_state(pipeline_, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE) {
+    const std::string why = pending_error(pipeline_);
+    teardown();
+    throw DeviceError("camera " + id() + ": cannot listen on " + config_.listen.host + ":" +
+                      std::to_string(config_.listen.port) + ": " +
+                      (why.empty() ? "the pipeline refused to start" : why));
+  }
+  last_frame_ns_.store(monotonic_now_ns(), std::memory_order_relaxed);
+  // Nothing has arrived yet: stalled until the first frame (never streaming without video).
+  state_.store(SourceState::kStalled, std::memory_order_release);
+  running_ = true;
+  bus_thread_ = std::thread([this] { bus_loop(); });
+}
+
+void RtpCamera::stop() {
+  if (!running_.exchange(false)) return;
+  if (bus_thread_.joinable()) bus_thread_.join();
+  if (pipeline_ != nullptr) gst_element_set_state(pipeline_, GST_STATE_NULL);
+  state_.store(SourceState::kClosed, std::memory_order_release);
+}
+
+void RtpCamera::bus_loop() {
+  int64_t restart_at_ns = 0;
+  while (running_.load(std::memory_order_relaxed)) {
+    const int64_t now = monotonic_now_ns();
+    if (pipeline_ == nullptr) {
+      if (now >= restart_at_ns) {
+        try {
+          build();
+          if (gst_element_set_state(pipeline_, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE) {
+            teardown();
+            restart_at_ns = now + 500'000'000;
+          } else {
+            restarts_.fetch_add(1, std::memory_order_relaxed);
+          }
+        } catch (const DeviceError&) {
+          restart_at_ns = now + 500'000'000;
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));  // waiting to retry, not a sync
+      continue;
+    }
+    GstBus* bus = gst_element_get_bus(pipeline_);
+    GstMessage* m = gst_bus_timed_pop_filtered(
+        bus, 100 * GST_MSECOND, static_cast<GstMessageType>(GST_MESSAGE_ERROR | GST_MESSAGE_EOS));
+    gst_object_unref(bus);
+    if (m != nullptr) {
+      std::string text = "end of stream";
+      if (GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
+        GError* e = nullptr;
+        gchar* debug = nullptr;
+        gst_message_parse_error(m, &e, &debug);
+        text = std::string(GST_OBJECT_NAME(GST_MESSAGE_SRC(m))) + ": " +
+               (e != nullptr ? e->message : "error");
+        g_clear_error(&e);
+        g_free(debug);
+      }
+      gst_message_unref(m);
+      bus_errors_.fetch_add(1, std::memory_order_relaxed);
+      {
+        std::lock_guard lock(error_mutex_);
+        last_error_ = text;
+      }
+      state_.store(SourceState::kDisconnected, std::memory_order_release);
+      teardown();
+      restart_at_ns = monotonic_now_ns() + 500'000'000;
+      continue;
+    }
+    const SourceState s = state_.load(std::memory_order_acquire);
+    if (s == SourceState::kStreaming &&
+        monotonic_now_ns() - last_frame_ns_.load(std::memory_order_relaxed) >
+            config_.stall_timeout_ns)
+      state_.store(SourceState::kStalled, std::memory_order_release);
+  }
+}
+
+GstPadProbeReturn RtpCamera::rtp_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self) {
+  return static_cast<RtpCamera*>(self)->on_rtp_packet(GST_PAD_PROBE_INFO_BUFFER(info));
+}
+
+GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
+  packets_.fetch_add(1, std::memory_order_relaxed);
+  GstMapInfo map;
+  if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_DROP;
+  RtpPacketView view;
+  const RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
+  gst_buffer_unmap(buffer, &map);
+  if (e != RtpPacketError::kNone) {
+    malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
+    return GST_PAD_PROBE_DROP;
+  }
+  well_formed_.fetch_add(1, std::memory_order_relaxed);
+  return GST_PAD_PROBE_OK;
+}
+
+GstCaps* RtpCamera::request_key_cb(GstElement*, guint, gpointer self) {
+  const SrtpKey& key = *static_cast<RtpCamera*>(self)->config_.srtp_key;
+  GstBuffer* k = gst_buffer_new_memdup(key.bytes.data(), key.bytes.size());
+  GstCaps* caps = gst_caps_new_simple("application/x-srtp", "srtp-key", GST_TYPE_BUFFER, k,
+                                      "srtp-cipher", G_TYPE_STRING, "aes-128-gcm", "srtp-auth",
+                                      G_TYPE_STRING, "null", "srtcp-cipher", G_TYPE_STRING,
+                                      "aes-128-gcm", "srtcp-auth", G_TYPE_STRING, "null", nullptr);
+  gst_buffer_unref(k);
+  return caps;
+}
+
+GstPadProbeReturn RtpCamera::depay_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self) {
+  static_cast<RtpCamera*>(self)->on_depay_packet(GST_PAD_PROBE_INFO_BUFFER(info));
+  return GST_PAD_PROBE_OK;
+}
+
+void RtpCamera::on_depay_packet(GstBuffer* buffer) {
+  GstMapInfo map;
+  if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return;
+  RtpPacketView view;
+  RtpFrameStamp stamp;
+  StampError e = StampError::kNoNtp;
+  const bool parsed =
+      parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view) == RtpPacketError::kNone;
+  if (parsed && view.has_extension) e = read_frame_stamp(view, stamp);
+  gst_buffer_unmap(buffer, &map);
+  if (!parsed || !view.has_extension) return;  // a plain sender: nothing to read
+  if (e != StampError::kNone) {
+    stamp_errors_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  if (stamp.camera) {
+    last_camera_index_.store(stamp.camera->camera_index, std::memory_order_relaxed);
+    last_revision_.store(stamp.camera->calibration_revision, std::memory_order_relaxed);
+  }
+  const GstClockTime pts = GST_BUFFER_PTS(buffer);
+  if (!GST_CLOCK_TIME_IS_VALID(pts)) return;
+  const int64_t capture_mono = *stamp.capture_unix_ns - realtime_minus_monotonic_ns();
+  std::lock_guard lock(stamp_mutex_);
+  for (StampSlot& s : stamps_)
+    if (s.pts == pts) {
+      s.capture_mono_ns = capture_mono;
+      return;
+    }
+  stamps_[stamp_next_] = {pts, capture_mono};
+  stamp_next_ = (stamp_next_ + 1) % stamps_.size();
+}
+
+GstFlowReturn RtpCamera::new_sample_cb(GstElement* sink, gpointer self) {
+  static_cast<RtpCamera*>(self)->on_sample(sink);
+  return GST_FLOW_OK;
+}
+
+void RtpCamera::on_sample(GstElement* sink) {
+  GstSample* sample = gst_app_sink_pull_sample(GST_APP_SINK(sink));
+  if (sample == nullptr) return;
+  const int64_t now = monotonic_now_ns();
+  GstVideoInfo info;
+  GstBuffer* buffer = gst_sample_get_buffer(sample);
+  GstCaps* caps = gst_sample_get_caps(sample);
+  if (buffer == nullptr || caps == nullptr || !gst_video_info_from_caps(&info, caps)) {
+    gst_sample_unref(sample);
+    return;
+  }
+  const int w = GST_VIDEO_INFO_WIDTH(&info), h = GST_VIDEO_INFO_HEIGHT(&info);
+  if (learned_width_ == 0 && !format_.known()) {
+    learned_width_ = w;
+    learned_height_ = h;
+  }
+  const int want_w = format_.known() ? format_.width_px : learned_width_;
+  const int want_h = format_.known() ? format_.height_px : learned_height_;
+  if (w != want_w || h != want_h) {
+    wrong_format_.fetch_add(1, std::memory_order_relaxed);
+    if (!format_lost_) {
+      format_lost_ = true;
+      FormatEvent ev;
+      ev.time_ns = now;
+      ev.kind = FormatEventKind::kLost;
+      ev.cause = FormatEventCause::kFrame;
+      ev.expected = format_;
+      ev.expected.width_px = want_w;
+      ev.expected.height_px = want_h;
+      ev.seen = {w, h, PixelFormat::kRgba8, 0.0};
+      events_.push(ev);
+    }
+    state_.store(SourceState::kFormatMismatch, std::memory_order_release);
+    gst_sample_unref(sample);
+    return;
+  }
+  if (format_lost_) {
+    format_lost_ = false;
+    FormatEvent ev;
+    ev.time_ns = now;
+    ev.kind = FormatEventKind::kRestored;
+    ev.cause = FormatEventCause::kFrame;
+    ev.expected = format_;
+    ev.expected.width_px = want_w;
+    ev.expected.height_px = want_h;
+    ev.seen = ev.expected;
+    events_.push(ev);
+  }
+  GstVideoFrame vf;
+  if (!gst_video_frame_map(&vf, &info, buffer, GST_MAP_READ)) {
+    gst_sample_unref(sample);
+    return;
+  }
+  Frame& slot = mailbox_->write_slot();
+  // Only the first three frames of a stream whose size was not negotiated size a slot.
+  if (slot.width != w || slot.height != h || slot.data.size() != std::size_t(w) * h * 4) {
+    slot.allocate_rgba(w, h);
+    ++sized_slots_;
+  }
+  const uint8_t* src = static_cast<const uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&vf, 0));
+  const int src_stride = GST_VIDEO_FRAME_PLANE_STRIDE(&vf, 0);
+  for (int y = 0; y < h; ++y)
+    std::memcpy(slot.data.data() + std::size_t(y) * slot.stride_bytes,
+                src + std::size_t(y) * src_stride, std::size_t(w) * 4);
+  gst_video_frame_unmap(&vf);
+  // Arrival on the pipeline clock (CLOCK_MONOTONIC): the buffer's running time plus base time.
+  int64_t arrival_ns = now;
+  const GstClockTime pts = GST_BUFFER_PTS(buffer);
+  const GstClockTime base = gst_element_get_base_time(sink);
+  if (GST_CLOCK_TIME_IS_VALID(pts) && GST_CLOCK_TIME_IS_VALID(base)) {
+    const int64_t t = static_cast<int64_t>(pts + base);
+    if (t <= now) arrival_ns = t;  // never later than now: a time in the future is not honest
+  }
+  int64_t capture_ns = 0;
+  bool stamped = false;
+  if (GST_CLOCK_TIME_IS_VALID(pts)) {
+    std::lock_guard lock(stamp_mutex_);
+    for (const StampSlot& s : stamps_)
+      if (s.pts == pts) {
+        capture_ns = s.capture_mono_ns;
+        stamped = true;
+      }
+  }
+  if (stamped && capture_ns > arrival_ns) {
+    capture_after_arrival_.fetch_add(1, std::memory_order_relaxed);
+    capture_ns = arrival_ns;
+  }
+  if ((stamped ? capture_ns : arrival_ns) <= last_published_capture_ns_) {
+    not_newer_.fetch_add(1, std::memory_order_relaxed);
+    gst_sample_unref(sample);
+    return;
+  }
+  last_published_capture_ns_ = stamped ? capture_ns : arrival_ns;
+  slot.sequence = ++sequence_;
+  if (stamped) {
+    stamped_.fetch_add(1, std::memory_order_relaxed);
+    slot.host_timestamp_ns = capture_ns;
+    slot.device_timestamp_ns = capture_ns;
+    slot.device_time_trusted = true;
+  } else {
+    unstamped_.fetch_add(1, std::memory_order_relaxed);
+    slot.host_timestamp_ns = arrival_ns;
+    slot.device_timestamp_ns = arrival_ns;
+    slot.device_time_trusted = false;
+  }
+  gst_sample_unref(sample);
+  mailbox_->publish();
+  frames_published_.fetch_add(1, std::memory_order_relaxed);
+  last_frame_ns_.store(now, std::memory_order_relaxed);
+  state_.store(SourceState::kStreaming, std::memory_order_release);
+}
+
+bool RtpCamera::set_netsim_drop_probability(double p) {
+  if (pipeline_ == nullptr || !config_.netsim()) return false;
+  GstElement* n = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kNetsim);
+  if (n == nullptr) return false;
+  g_object_set(n, "drop-probability", static_cast<gfloat>(p), nullptr);
+  gst_object_unref(n);
+  return true;
+}
+
+uint64_t RtpCamera::dropped_frames() const {
+  return wrong_format_.load(std::memory_order_relaxed);
+}
+
+RtpCameraStats RtpCamera::stats() const {
+  RtpCameraStats s;
+  s.packets = packets_.load(std::memory_order_relaxed);
+  for (std::size_t i = 0; i < s.malformed.size(); ++i) {
+    s.malformed[i] = malformed_[i].load(std::memory_order_relaxed);
+    s.malformed_total += s.malformed[i];
+  }
+  s.frames_published = frames_published_.load(std::memory_order_relaxed);
+  s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
+  s.bus_errors = bus_errors_.load(std::memory_order_relaxed);
+  s.restarts = restarts_.load(std::memory_order_relaxed);
+  s.stamped_frames = stamped_.load(std::memory_order_relaxed);
+  s.unstamped_frames = unstamped_.load(std::memory_order_relaxed);
+  s.capture_after_arrival = capture_after_arrival_.load(std::memory_order_relaxed);
+  s.not_newer = not_newer_.load(std::memory_order_relaxed);
+  for (std::size_t i = 0; i < s.stamp_errors.size(); ++i)
+    s.stamp_errors[i] = stamp_errors_[i].load(std::memory_order_relaxed);
+  if (config_.srtp_key) {
+    s.srtp_decrypted = decrypted_.load(std::memory_order_relaxed);
+    const uint64_t in = well_formed_.load(std::memory_order_relaxed);
+    // Packets in srtpdec's hands a moment ago count as neither: rejected never grows from them.
+    s.srtp_rejected = in > s.srtp_decrypted ? in - s.srtp_decrypted : 0;
+  }
+  s.last_camera_index = last_camera_index_.load(std::memory_order_relaxed);
+  s.last_calibration_revision = last_revision_.load(std::memory_order_relaxed);
+  std::lock_guard lock(error_mutex_);
+  s.last_error = last_error_;
+  return s;
+}
+
+}  // namespace hd::drivers

@@ -1,0 +1,156 @@
+#pragma once
+// The station's network camera: one RTP H.264 stream (from hybrid-remote or any standard sender)
+// received through GStreamer, as a CameraSource.
+
+#include <gst/gst.h>
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "drivers/camera_source.h"
+#include "drivers/rtp/rtp_frame_stamp.h"
+#include "drivers/rtp/rtp_packet.h"
+#include "drivers/rtp/rtp_receive_config.h"
+
+namespace hd::drivers {
+
+/// Counters since start(); read from any thread.
+struct RtpCameraStats {
+  uint64_t packets = 0;  ///< RTP packets that reached the camera (after netsim, if any)
+  /// Packets refused by parse_rtp_packet (dropped before GStreamer sees them), by reason.
+  std::array<uint64_t, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
+  uint64_t malformed_total = 0;
+  uint64_t frames_published = 0;
+  uint64_t wrong_format = 0;  ///< decoded frames of another size than negotiated (not published)
+  uint64_t bus_errors = 0;    ///< GStreamer errors (each restarts the pipeline)
+  /// Frames with the sender's capture time (hybrid-remote) / with their arrival time instead.
+  uint64_t stamped_frames = 0;
+  uint64_t unstamped_frames = 0;
+  /// Stamped frames whose mapped capture time lay after their arrival (the two clocks disagree):
+  /// stamped with the arrival instead.
+  uint64_t capture_after_arrival = 0;
+  /// Decoded frames not newer than the last published one (a late or repeated frame): never
+  /// published, so old video is never presented as new.
+  uint64_t not_newer = 0;
+  /// Packets with header extensions whose stamp was refused, by reason (StampError).
+  std::array<uint64_t, static_cast<std::size_t>(StampError::kCount)> stamp_errors{};
+  /// With a key: packets srtpdec authenticated and decrypted / that failed (a wrong key, or a
+  /// sender without encryption): never decoded, never shown.
+  uint64_t srtp_decrypted = 0;
+  uint64_t srtp_rejected = 0;
+  int last_camera_index = -1;  ///< from the camera-state element; -1 none seen
+  int64_t last_calibration_revision = -1;
+  uint64_t restarts = 0;
+  std::string last_error;  ///< the newest bus error's text ("" none)
+};
+
+/// Receives `rtp://HOST:PORT`: the pipeline of receive_pipeline_description() (udpsrc → rtpbin
+/// with a small jitter buffer and NACK/RTX → rtph264depay → avdec_h264 → RGBA → appsink), whose
+/// appsink callback copies each decoded frame into the pre-sized mailbox (no allocation once the
+/// three slots are sized; the render thread only fetches).
+///
+/// Size: negotiate() takes the calibrated size as the expected one (the stream cannot be asked
+/// for a size, so the answer is "unknown until the first frame"); a decoded frame of another size
+/// is never published: the state becomes kFormatMismatch with a FormatEvent. open() without a
+/// size learns it from the first frame.
+///
+/// Time: a frame stamped by hybrid-remote (rtp_frame_stamp.h: ntp-64 on every packet) carries
+/// its capture time on the sender's CLOCK_REALTIME; it is mapped onto CLOCK_MONOTONIC through
+/// this host's realtime - monotonic offset, which is exact on one machine and as good as the
+/// two hosts' clock synchronisation (NTP/PTP) otherwise; device_time_trusted is then true. A
+/// mapped time after the frame's arrival is impossible and replaced by the arrival (counted). A
+/// plain sender says nothing about when it captured a frame, so its host time is its arrival:
+/// the jitter buffer's output time of its packets (udpsrc's arrival stamps, with the jitter
+/// buffer's skew estimate) on the pipeline clock, which is CLOCK_MONOTONIC; not trusted.
+///
+/// Liveness: no frame for stall_timeout_ns makes the state kStalled; a GStreamer error makes it
+/// kDisconnected, is counted with its text, and the pipeline is rebuilt after 0.5 s.
+///
+/// Bad input: every UDP datagram on the RTP port is checked with parse_rtp_packet before
+/// GStreamer sees it; a malformed one is dropped and counted by reason.
+class RtpCamera final : public CameraSource {
+ public:
+  explicit RtpCamera(RtpReceiveConfig config);
+  ~RtpCamera() override;
+  RtpCamera(const RtpCamera&) = delete;
+  RtpCamera& operator=(const RtpCamera&) = delete;
+
+  std::string id() const override { return to_uri(config_.listen); }
+  void open() override;  ///< builds the pipeline (throws DeviceError naming the address)
+  FormatNegotiation negotiate(const CameraFormatRequest& wanted) override;
+  CameraFormat format() const override { return format_; }
+  bool pop_format_event(FormatEvent& out) override { return events_.pop(out); }
+  void start() override;  ///< starts listening (throws DeviceError when the port is taken)
+  void stop() override;
+  SourceState state() const override { return state_.load(std::memory_order_acquire); }
+  uint64_t dropped_frames() const override;
+  Mailbox<Frame>& frames() override { return *mailbox_; }
+
+  RtpCameraStats stats() const;
+  /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
+  /// link. False when there is no netsim in the path.
+  bool set_netsim_drop_probability(double p);
+  const RtpReceiveConfig& config() const { return config_; }
+  /// The pipeline as built (for the start report and docs).
+  std::string pipeline_description() const;
+
+ private:
+  void build();
+  void teardown();
+  void bus_loop();
+  void on_sample(GstElement* sink);
+  GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
+  void on_depay_packet(GstBuffer* buffer);
+  static GstPadProbeReturn depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
+  static GstFlowReturn new_sample_cb(GstElement* sink, gpointer self);
+  static GstPadProbeReturn rtp_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
+  static GstCaps* request_key_cb(GstElement* srtpdec, guint ssrc, gpointer self);
+
+  RtpReceiveConfig config_;
+  CameraFormat format_;  // negotiated: expected size, H.264 on the wire
+  std::unique_ptr<Mailbox<Frame>> mailbox_;
+  GstElement* pipeline_ = nullptr;
+
+  std::thread bus_thread_;
+  std::atomic<bool> running_{false};
+  std::atomic<SourceState> state_{SourceState::kClosed};
+  std::atomic<int64_t> last_frame_ns_{0};
+
+  // Owned by the streaming thread.
+  int learned_width_ = 0, learned_height_ = 0;
+  uint64_t sequence_ = 0;
+  int sized_slots_ = 0;
+  bool format_lost_ = false;
+
+  std::atomic<uint64_t> packets_{0};
+  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(RtpPacketError::kCount)> malformed_{};
+  std::atomic<uint64_t> frames_published_{0};
+  std::atomic<uint64_t> wrong_format_{0};
+  std::atomic<uint64_t> bus_errors_{0};
+  std::atomic<uint64_t> restarts_{0};
+  std::atomic<uint64_t> well_formed_{0}, decrypted_{0};
+  std::atomic<uint64_t> stamped_{0}, unstamped_{0}, capture_after_arrival_{0}, not_newer_{0};
+  int64_t last_published_capture_ns_ = 0;  // streaming thread
+  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(StampError::kCount)> stamp_errors_{};
+  std::atomic<int> last_camera_index_{-1};
+  std::atomic<int64_t> last_revision_{-1};
+  // Capture times by buffer PTS, from the depayloader's input (after the jitter buffer) to the
+  // decoded frame (the decoder keeps PTS). Fixed size: a few frames in flight at most.
+  struct StampSlot {
+    uint64_t pts = ~0ull;
+    int64_t capture_mono_ns = 0;
+  };
+  std::mutex stamp_mutex_;
+  std::array<StampSlot, 16> stamps_{};
+  std::size_t stamp_next_ = 0;
+  mutable std::mutex error_mutex_;
+  std::string last_error_;
+  FormatEventRing events_;
+};
+
+}  // namespace hd::drivers

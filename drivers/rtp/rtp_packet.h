@@ -1,0 +1,49 @@
+#pragma once
+// A pure parser of one RTP packet (RFC 3550) and its RFC 8285 header extension elements: what the
+// network camera checks every packet with before GStreamer sees it, fuzzed with mutated packets.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+namespace hd::drivers {
+
+/// Why a packet was refused (the counters are indexed by it).
+enum class RtpPacketError : uint8_t {
+  kNone,
+  kTooShort,          ///< shorter than the 12-byte fixed header
+  kBadVersion,        ///< version field not 2
+  kCsrcOverrun,       ///< the CSRC list runs past the packet's end
+  kExtensionOverrun,  ///< the header extension runs past the packet's end
+  kBadPadding,        ///< padding count 0 or larger than what follows the header
+  kBadExtension,      ///< an RFC 8285 element runs past its block, or uses the reserved id 15
+  kCount
+};
+
+std::string_view to_string(RtpPacketError e);
+
+/// The fields of a packet that parsed; the spans point into the caller's bytes.
+struct RtpPacketView {
+  uint8_t payload_type = 0;
+  bool marker = false;
+  uint16_t sequence = 0;
+  uint32_t timestamp = 0;  ///< in the payload's clock (90 kHz for video)
+  uint32_t ssrc = 0;
+  /// 0xBEDE for RFC 8285 one-byte elements, 0x1000..0x100F for two-byte ones, else another
+  /// profile's extension (kept, its elements are not interpreted); 0 without extension.
+  uint16_t extension_profile = 0;
+  bool has_extension = false;
+  std::span<const uint8_t> extension;  ///< the extension block after its 4-byte header
+  std::span<const uint8_t> payload;    ///< without padding
+};
+
+/// Parses the fixed header, CSRCs, header extension (and checks its RFC 8285 elements when it is
+/// one) and padding. Never reads outside `packet`.
+RtpPacketError parse_rtp_packet(std::span<const uint8_t> packet, RtpPacketView& out);
+
+/// The data of RFC 8285 element `id` (1..14 one-byte, 1..255 two-byte) in a parsed packet; false
+/// when the packet has no such element. Call only on a packet parse_rtp_packet accepted.
+bool find_rtp_extension(const RtpPacketView& p, uint8_t id, std::span<const uint8_t>& data);
+
+}  // namespace hd::drivers

@@ -1,0 +1,39 @@
+#pragma once
+// Settings of the station's network camera (one RTP H.264 stream), as data.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "drivers/rtp/rtp_uri.h"
+#include "drivers/rtp/srtp_key.h"
+
+namespace hd::drivers {
+
+/// Everything the receive pipeline is built from (rtp_receive_pipeline.h turns it into a
+/// GStreamer description). Times in ms where GStreamer takes ms.
+struct RtpReceiveConfig {
+  RtpAddress listen;                  ///< RTP on listen.port, RTCP on listen.port + 1
+  int jitter_buffer_latency_ms = 20;  ///< rtpbin latency: small, video is only useful when fresh
+  bool retransmission = true;         ///< NACK (RTCP feedback) and RTX (RFC 4588) through rtpbin
+  int payload_type = 96;              ///< the H.264 payload type (rtph264pay's default)
+  int rtx_payload_type = 97;          ///< RTX payload type for `payload_type`
+  int64_t stall_timeout_ns = 500'000'000;  ///< no frame for this long: kStalled
+  /// Fault injection in the receive path (GStreamer netsim before rtpbin; tests and the faults
+  /// table only): a packet is dropped with this probability, and delayed by a uniformly
+  /// distributed min..max ms.
+  double netsim_drop_probability = 0.0;
+  int netsim_min_delay_ms = 0;
+  int netsim_max_delay_ms = 0;
+  /// With a key the stream must be SRTP (AES-128-GCM, media and RTCP): every packet that fails
+  /// authentication (a wrong key, or a sender without encryption) is dropped and counted.
+  std::optional<SrtpKey> srtp_key;
+  /// netsim in the path even with no loss or delay (so a test can cut the link while running).
+  bool netsim_always = false;
+  bool netsim() const {
+    return netsim_always || netsim_drop_probability > 0.0 || netsim_max_delay_ms > 0 ||
+           netsim_min_delay_ms > 0;
+  }
+};
+
+}  // namespace hd::drivers

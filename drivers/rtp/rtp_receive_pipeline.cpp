@@ -1,0 +1,45 @@
+#include "drivers/rtp/rtp_receive_pipeline.h"
+
+#include <cstdio>
+
+namespace hd::drivers {
+
+std::string receive_pipeline_description(const RtpReceiveConfig& c) {
+  using namespace rtp_elements;
+  const std::string host = c.listen.host, port = std::to_string(c.listen.port),
+                    rtcp_port = std::to_string(c.listen.port + 1);
+  std::string d;
+  d += std::string("rtpbin name=") + kRtpBin +
+       " latency=" + std::to_string(c.jitter_buffer_latency_ms) +
+       " do-retransmission=" + (c.retransmission ? "true" : "false") + " ";
+  // A frame buffered past its deadline is of no use: the jitter buffer does not grow beyond
+  // the latency.
+  d += "drop-on-latency=true ";
+  d +=
+      std::string("udpsrc name=") + kRtpSource + " address=" + host + " port=" + port +
+      " reuse=false" + " caps=\"application/x-" + (c.srtp_key ? "srtp" : "rtp") +
+      ",media=video,clock-rate=90000,encoding-name=H264,payload=" + std::to_string(c.payload_type) +
+      "\" ";
+  if (c.srtp_key)
+    d += std::string("! ") + kSrtpDecoder + ".rtp_sink srtpdec name=" + kSrtpDecoder + " " +
+         kSrtpDecoder + ".rtp_src ";
+  if (c.netsim()) {
+    char p[32];
+    std::snprintf(p, sizeof p, "%.6f", c.netsim_drop_probability);
+    d += std::string("! netsim name=") + kNetsim + " drop-probability=" + p +
+         " min-delay=" + std::to_string(c.netsim_min_delay_ms) +
+         " max-delay=" + std::to_string(c.netsim_max_delay_ms) + " delay-distribution=uniform ";
+  }
+  d += std::string("! ") + kRtpBin + ".recv_rtp_sink_0 ";
+  d += std::string("udpsrc name=") + kRtcpSource + " address=" + host + " port=" + rtcp_port +
+       " reuse=false" + " caps=application/x-rtcp ! " + kRtpBin + ".recv_rtcp_sink_0 ";
+  d += std::string(kRtpBin) + ".send_rtcp_src_0 ! multiudpsink name=" + kRtcpSink +
+       " sync=false async=false ";
+  d += std::string(kRtpBin) + ". ! rtph264depay name=" + kDepayloader +
+       " request-keyframe=true wait-for-keyframe=true ! avdec_h264 max-threads=1 ! videoconvert ! "
+       "video/x-raw,format=RGBA ! appsink name=" +
+       kAppSink + " sync=false max-buffers=1 drop=true";
+  return d;
+}
+
+}  // namespace hd::drivers

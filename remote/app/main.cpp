@@ -1,0 +1,152 @@
+// hybrid-remote: the program at the robot's site. Streams each camera to the station as RTP
+// H.264 (issue 12): `--scene FILE` renders the simulator's cameras, so the whole system runs as
+// two processes on one machine. Camera i goes to rtp://HOST:(PORT + 2 i).
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/rtp_uri.h"
+#include "drivers/rtp/srtp_key.h"
+#include "remote/sender/rtp_sender.h"
+#include "sim/scene/config_error.h"
+#include "sim/scene/scene_file.h"
+#include "sim/simulation.h"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+void on_signal(int) {
+  g_stop = true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "hybrid-remote: streams the remote site's cameras to the operator's station as RTP H.264 "
+      "(x264enc zerolatency, rtpbin with RTCP), every packet stamped with the frame's capture "
+      "time (RFC 6051 ntp-64) and the camera's state (index, calibration revision)"};
+  std::string scene_file;
+  std::string to = "rtp://127.0.0.1:5600";
+  double seconds = 0.0;
+  int bitrate_kbps = 4000;
+  double key_interval_s = 0.5;
+  app.add_option("--scene", scene_file,
+                 "scene file whose simulated cameras are sent (e.g. scenes/default.yaml)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--to", to,
+                 "the station's address of camera 0, rtp://HOST:PORT; camera i goes to "
+                 "PORT + 2 i (RTCP on the next port)")
+      ->capture_default_str();
+  app.add_option("--seconds", seconds, "stop after this long (0: until Ctrl-C)")
+      ->capture_default_str();
+  app.add_option("--bitrate-kbps", bitrate_kbps, "x264enc bitrate per camera")
+      ->capture_default_str()
+      ->check(CLI::Range(50, 100000));
+  app.add_option("--key-interval-s", key_interval_s,
+                 "a key frame (with SPS/PPS) at least this often: how soon a station that "
+                 "joins or loses packets shows video again")
+      ->capture_default_str()
+      ->check(CLI::Range(0.05, 10.0));
+  std::string key_file;
+  app.add_option("--key-file", key_file,
+                 "pre-shared SRTP key (56 hex digits: AES-128-GCM key + salt), readable by its "
+                 "owner only; media and RTCP are then encrypted and authenticated");
+  CLI11_PARSE(app, argc, argv);
+
+  std::string why;
+  const auto address = hd::drivers::parse_rtp_uri(to, why);
+  if (!address) {
+    std::fprintf(stderr, "hybrid-remote: --to: %s\n", why.c_str());
+    return 2;
+  }
+  std::optional<hd::drivers::SrtpKey> key;
+  if (!key_file.empty()) {
+    try {
+      key = hd::drivers::read_srtp_key_file(key_file);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hybrid-remote: --key-file: %s\n", e.what());
+      return 2;
+    }
+  }
+  std::unique_ptr<hd::sim::Simulation> sim;
+  try {
+    sim = std::make_unique<hd::sim::Simulation>(hd::sim::load_scene(scene_file));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hybrid-remote: %s\n", e.what());
+    return 2;
+  }
+
+  std::vector<std::unique_ptr<hd::remote::RtpSender>> senders;
+  std::printf("hybrid-remote: scene %s (%s), %zu cameras\n", scene_file.c_str(),
+              sim->scene().name.c_str(), sim->camera_count());
+  for (std::size_t i = 0; i < sim->camera_count(); ++i) {
+    const hd::sim::SceneCamera& sc = sim->scene().cameras[i];
+    hd::remote::RtpSendConfig c;
+    c.host = address->host;
+    c.port = static_cast<uint16_t>(address->port + 2 * i);
+    c.width_px = static_cast<int>(sc.intrinsics.width);
+    c.height_px = static_cast<int>(sc.intrinsics.height);
+    c.rate_hz = sc.rate_hz;
+    c.bitrate_kbps = bitrate_kbps;
+    c.key_interval_s = key_interval_s;
+    c.camera_index = static_cast<uint8_t>(i);
+    c.calibration_revision = 1;  // the scene's calibration is fixed for the run
+    c.srtp_key = key;
+    auto s = std::make_unique<hd::remote::RtpSender>(c);
+    try {
+      s->start();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hybrid-remote: camera %zu: %s\n", i, e.what());
+      return 3;
+    }
+    std::printf(
+        "  camera %zu %-10s %dx%d at %g Hz -> rtp://%s:%d (RTCP %d): x264enc (software; "
+        "zerolatency, ultrafast, no B-frames, key frame every %d frames, VBV %d ms = one frame, "
+        "%d kbit/s), rtph264pay, rtpbin; per packet: ntp-64 capture time (CLOCK_REALTIME: the "
+        "station maps it exactly on one host, else as well as the hosts' clocks agree) and "
+        "camera-state (index %zu, calibration revision %u)\n",
+        i, sc.name.c_str(), c.width_px, c.height_px, c.rate_hz, c.host.c_str(), c.port, c.port + 1,
+        c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps, i, c.calibration_revision);
+    senders.push_back(std::move(s));
+  }
+  std::printf("  security: %s\n",
+              key ? ("SRTP AES-128-GCM on media and RTCP, key file " + key->file).c_str()
+                  : "none: RTP in the clear (no --key-file)");
+  std::printf("  p_c: not sent; give the station the same calibration (issue 12 item 1, open)\n");
+  std::fflush(stdout);
+
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  sim->start();
+  const int64_t start_ns = hd::drivers::monotonic_now_ns();
+  while (!g_stop) {
+    for (std::size_t i = 0; i < senders.size(); ++i) {
+      auto& mailbox = sim->camera(i).frames();
+      if (mailbox.fetch()) senders[i]->push(mailbox.latest());
+    }
+    if (seconds > 0 && hd::drivers::monotonic_now_ns() - start_ns > int64_t(seconds * 1e9)) break;
+    // Polls the cameras' mailboxes (they have no wake-up); 0.5 ms adds at most that to latency.
+    std::this_thread::sleep_for(std::chrono::microseconds(500));
+  }
+  sim->stop();
+  for (std::size_t i = 0; i < senders.size(); ++i) {
+    const hd::remote::RtpSenderStats st = senders[i]->stats();
+    std::printf("  camera %zu: %llu frames sent, %llu refused, %llu stamped, %llu packets\n", i,
+                static_cast<unsigned long long>(st.frames_pushed),
+                static_cast<unsigned long long>(st.frames_refused),
+                static_cast<unsigned long long>(st.frames_stamped),
+                static_cast<unsigned long long>(st.packets_stamped));
+    senders[i]->stop();
+  }
+  return 0;
+}

@@ -1,0 +1,34 @@
+#pragma once
+// Settings of one camera's outgoing stream at the remote site (hybrid-remote), as data.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "drivers/rtp/srtp_key.h"
+
+namespace hd::remote {
+
+/// One camera → one RTP H.264 stream to the station's `rtp://host:port` (RTCP on port + 1).
+struct RtpSendConfig {
+  std::string host = "127.0.0.1";
+  uint16_t port = 5600;
+  int width_px = 0;
+  int height_px = 0;
+  double rate_hz = 30.0;
+  int bitrate_kbps = 4000;
+  /// A key frame (IDR, with SPS/PPS) at least this often: a station that joins late, or after
+  /// a link cut, decodes within this time even without asking (x264enc key-int-max).
+  double key_interval_s = 0.5;
+  int payload_type = 96;
+  int mtu_bytes = 1200;  ///< below any path's MTU, with room for the header extensions
+  uint8_t camera_index = 0;
+  uint32_t calibration_revision = 0;
+  /// With a key: SRTP AES-128-GCM (srtpenc) on media and RTCP.
+  std::optional<drivers::SrtpKey> srtp_key;
+
+  int key_int_frames() const;  ///< key_interval_s in frames, at least 1
+  int vbv_buffer_ms() const;   ///< one frame period, rounded up: VBV of about one frame
+};
+
+}  // namespace hd::remote

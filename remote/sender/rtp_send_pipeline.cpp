@@ -1,0 +1,49 @@
+#include "remote/sender/rtp_send_pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hd::remote {
+
+int RtpSendConfig::key_int_frames() const {
+  return std::max(1, static_cast<int>(std::lround(key_interval_s * rate_hz)));
+}
+
+int RtpSendConfig::vbv_buffer_ms() const {
+  return std::max(1, static_cast<int>(std::ceil(1000.0 / rate_hz)));
+}
+
+std::string send_pipeline_description(const RtpSendConfig& c) {
+  using namespace send_elements;
+  const int fps_n = static_cast<int>(std::lround(c.rate_hz * 1000.0));
+  std::string d;
+  d += std::string("rtpbin name=") + kRtpBin + " ";
+  d += std::string("appsrc name=") + kAppSource +
+       " is-live=true format=time do-timestamp=false max-buffers=2 leaky-type=downstream "
+       "caps=video/x-raw,format=RGBA,width=" +
+       std::to_string(c.width_px) + ",height=" + std::to_string(c.height_px) +
+       ",framerate=" + std::to_string(fps_n) + "/1000 ";
+  d += "! videoconvert ! video/x-raw,format=I420 ";
+  d += std::string("! x264enc name=") + kEncoder +
+       " tune=zerolatency speed-preset=ultrafast bframes=0 key-int-max=" +
+       std::to_string(c.key_int_frames()) +
+       " vbv-buf-capacity=" + std::to_string(c.vbv_buffer_ms()) +
+       " bitrate=" + std::to_string(c.bitrate_kbps) + " ";
+  d += std::string("! rtph264pay name=") + kPayloader +
+       " config-interval=-1 pt=" + std::to_string(c.payload_type) +
+       " mtu=" + std::to_string(c.mtu_bytes) + " ";
+  d += std::string("! ") + kRtpBin + ".send_rtp_sink_0 ";
+  const std::string enc = kSrtpEncoder;
+  if (c.srtp_key)
+    d += "srtpenc name=" + enc +
+         " rtp-cipher=aes-128-gcm rtp-auth=null rtcp-cipher=aes-128-gcm rtcp-auth=null ";
+  d += std::string(kRtpBin) + ".send_rtp_src_0 ! " +
+       (c.srtp_key ? enc + ".rtp_sink_0 " + enc + ".rtp_src_0 ! " : std::string()) +
+       "udpsink host=" + c.host + " port=" + std::to_string(c.port) + " sync=false async=false ";
+  d += std::string(kRtpBin) + ".send_rtcp_src_0 ! " +
+       (c.srtp_key ? enc + ".rtcp_sink_0 " + enc + ".rtcp_src_0 ! " : std::string()) +
+       "udpsink host=" + c.host + " port=" + std::to_string(c.port + 1) + " sync=false async=false";
+  return d;
+}
+
+}  // namespace hd::remote

@@ -1,0 +1,25 @@
+#pragma once
+// The remote site's GStreamer send pipeline for one camera as data: a gst_parse_launch
+// description built from the named settings of an RtpSendConfig.
+
+#include <string>
+
+#include "remote/sender/rtp_send_config.h"
+
+namespace hd::remote {
+
+namespace send_elements {
+inline constexpr const char* kAppSource = "src";
+inline constexpr const char* kEncoder = "enc";
+inline constexpr const char* kPayloader = "pay";
+inline constexpr const char* kRtpBin = "rtpbin";
+inline constexpr const char* kSrtpEncoder = "srtpenc";
+}  // namespace send_elements
+
+/// appsrc (RGBA, live, the newest 2 frames) → videoconvert → I420 → x264enc (zerolatency,
+/// ultrafast, no B-frames, key frame every key_int_frames, VBV one frame) → rtph264pay (SPS/PPS
+/// with every IDR) → rtpbin (RTCP sender reports) → [srtpenc] → udpsink host:port; RTCP →
+/// [srtpenc] → udpsink port + 1. The key is not in the description (RtpSender sets it).
+std::string send_pipeline_description(const RtpSendConfig& c);
+
+}  // namespace hd::remote

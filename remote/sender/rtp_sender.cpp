@@ -1,0 +1,186 @@
+#include "remote/sender/rtp_sender.h"
+
+#include <gst/app/gstappsrc.h>
+#include <gst/rtp/rtp.h>
+#include <time.h>
+
+#include <cstring>
+#include <stdexcept>
+
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/gstreamer_init.h"
+#include "drivers/rtp/rtp_frame_stamp.h"
+#include "remote/sender/rtp_send_pipeline.h"
+
+namespace hd::remote {
+namespace {
+
+int64_t realtime_minus_monotonic_ns() {
+  timespec r{}, m{};
+  ::clock_gettime(CLOCK_REALTIME, &r);
+  ::clock_gettime(CLOCK_MONOTONIC, &m);
+  return (int64_t(r.tv_sec) - int64_t(m.tv_sec)) * 1'000'000'000LL +
+         (int64_t(r.tv_nsec) - int64_t(m.tv_nsec));
+}
+
+GstElement* by_name(GstElement* pipeline, const char* name) {
+  return gst_bin_get_by_name(GST_BIN(pipeline), name);
+}
+
+}  // namespace
+
+RtpSender::RtpSender(RtpSendConfig config) : config_(std::move(config)) {}
+
+RtpSender::~RtpSender() {
+  stop();
+  if (appsrc_ != nullptr) gst_object_unref(appsrc_);
+  if (pipeline_ != nullptr) gst_object_unref(pipeline_);
+}
+
+std::string RtpSender::description() const {
+  return send_pipeline_description(config_);
+}
+
+void RtpSender::start() {
+  if (playing_) return;
+  drivers::ensure_gstreamer();
+  const std::string where = config_.host + ":" + std::to_string(config_.port);
+  if (pipeline_ == nullptr) {
+    GError* error = nullptr;
+    pipeline_ = gst_parse_launch(description().c_str(), &error);
+    if (pipeline_ == nullptr || error != nullptr) {
+      const std::string why = error != nullptr ? error->message : "unknown error";
+      g_clear_error(&error);
+      throw std::runtime_error("stream to " + where + ": cannot build the pipeline: " + why);
+    }
+    GstClock* clock = GST_CLOCK(
+        g_object_new(GST_TYPE_SYSTEM_CLOCK, "clock-type", GST_CLOCK_TYPE_MONOTONIC, nullptr));
+    gst_pipeline_use_clock(GST_PIPELINE(pipeline_), clock);
+    gst_object_unref(clock);
+    appsrc_ = by_name(pipeline_, send_elements::kAppSource);
+
+    if (config_.srtp_key) {
+      GstElement* enc = by_name(pipeline_, send_elements::kSrtpEncoder);
+      GstBuffer* key =
+          gst_buffer_new_memdup(config_.srtp_key->bytes.data(), config_.srtp_key->bytes.size());
+      g_object_set(enc, "key", key, nullptr);
+      gst_buffer_unref(key);
+      gst_object_unref(enc);
+    }
+    GstElement* pay = by_name(pipeline_, send_elements::kPayloader);
+    GstElement* ntp = gst_element_factory_make("rtphdrextntp64", nullptr);
+    if (ntp == nullptr)
+      throw std::runtime_error("stream to " + where +
+                               ": GStreamer has no rtphdrextntp64 (gst-plugins-good 1.22)");
+    g_object_set(ntp, "every-packet", TRUE, nullptr);
+    gst_rtp_header_extension_set_id(GST_RTP_HEADER_EXTENSION(ntp), drivers::kNtp64ExtensionId);
+    g_signal_emit_by_name(pay, "add-extension", ntp);
+    gst_object_unref(ntp);
+    GstPad* sink = gst_element_get_static_pad(pay, "sink");
+    gst_pad_add_probe(
+        sink, GST_PAD_PROBE_TYPE_BUFFER,
+        [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+          return static_cast<RtpSender*>(self)->on_encoded(info);
+        },
+        this, nullptr);
+    gst_object_unref(sink);
+    GstPad* src = gst_element_get_static_pad(pay, "src");
+    gst_pad_add_probe(
+        src,
+        static_cast<GstPadProbeType>(GST_PAD_PROBE_TYPE_BUFFER | GST_PAD_PROBE_TYPE_BUFFER_LIST),
+        [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+          return static_cast<RtpSender*>(self)->on_packets(info);
+        },
+        this, nullptr);
+    gst_object_unref(src);
+    gst_object_unref(pay);
+  }
+  if (gst_element_set_state(pipeline_, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
+    throw std::runtime_error("stream to " + where + ": the pipeline refused to start");
+  base_time_ = gst_element_get_base_time(pipeline_);
+  playing_ = true;
+}
+
+void RtpSender::stop() {
+  if (!playing_) return;
+  playing_ = false;
+  gst_element_set_state(pipeline_, GST_STATE_NULL);
+}
+
+bool RtpSender::push(const drivers::Frame& f) {
+  if (!playing_ || f.width != config_.width_px || f.height != config_.height_px ||
+      f.format != drivers::PixelFormat::kRgba8) {
+    refused_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  base_time_ = gst_element_get_base_time(pipeline_);
+  const int64_t running = f.host_timestamp_ns - static_cast<int64_t>(base_time_);
+  if (base_time_ == 0 || running < 0) {  // captured before the pipeline ran: no honest PTS
+    refused_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  const std::size_t row = std::size_t(f.width) * 4;
+  GstBuffer* b = gst_buffer_new_allocate(nullptr, row * f.height, nullptr);
+  GstMapInfo map;
+  gst_buffer_map(b, &map, GST_MAP_WRITE);
+  for (int y = 0; y < f.height; ++y)
+    std::memcpy(map.data + row * y, f.data.data() + std::size_t(f.stride_bytes) * y, row);
+  gst_buffer_unmap(b, &map);
+  GST_BUFFER_PTS(b) = static_cast<GstClockTime>(running);
+  GST_BUFFER_DURATION(b) = static_cast<GstClockTime>(1e9 / config_.rate_hz);
+  {  // the capture time on CLOCK_REALTIME, ns since the NTP epoch (rtphdrextntp64's input)
+    GstCaps* caps = gst_caps_new_empty_simple("timestamp/x-ntp");
+    gst_buffer_add_reference_timestamp_meta(
+        b, caps,
+        static_cast<GstClockTime>(f.host_timestamp_ns + realtime_minus_monotonic_ns() +
+                                  drivers::kNtpUnixOffsetS * 1'000'000'000LL),
+        GST_CLOCK_TIME_NONE);
+    gst_caps_unref(caps);
+  }
+  gst_app_src_push_buffer(GST_APP_SRC(appsrc_), b);  // takes the buffer
+  pushed_.fetch_add(1, std::memory_order_relaxed);
+  return true;
+}
+
+// The encoded frame, before the payloader: the capture time push() attached (a reference
+// timestamp meta, which videoconvert and x264enc carry over) is what rtphdrextntp64 writes.
+GstPadProbeReturn RtpSender::on_encoded(GstPadProbeInfo* info) {
+  GstCaps* caps = gst_caps_new_empty_simple("timestamp/x-ntp");
+  if (gst_buffer_get_reference_timestamp_meta(GST_PAD_PROBE_INFO_BUFFER(info), caps) != nullptr)
+    frames_stamped_.fetch_add(1, std::memory_order_relaxed);
+  gst_caps_unref(caps);
+  return GST_PAD_PROBE_OK;
+}
+
+bool RtpSender::stamp_packet(GstBuffer* buffer) {
+  GstRTPBuffer rtp = GST_RTP_BUFFER_INIT;
+  if (!gst_rtp_buffer_map(buffer, GST_MAP_READWRITE, &rtp)) return false;
+  uint8_t data[drivers::kCameraStateSize];
+  drivers::write_camera_state({config_.camera_index, config_.calibration_revision},
+                              std::span<uint8_t, drivers::kCameraStateSize>(data));
+  const bool ok = gst_rtp_buffer_add_extension_onebyte_header(
+      &rtp, drivers::kCameraStateExtensionId, data, sizeof data);
+  gst_rtp_buffer_unmap(&rtp);
+  if (ok) packets_stamped_.fetch_add(1, std::memory_order_relaxed);
+  return ok;
+}
+
+GstPadProbeReturn RtpSender::on_packets(GstPadProbeInfo* info) {
+  if (GST_PAD_PROBE_INFO_TYPE(info) & GST_PAD_PROBE_TYPE_BUFFER_LIST) {
+    GstBufferList* list = gst_buffer_list_make_writable(GST_PAD_PROBE_INFO_BUFFER_LIST(info));
+    GST_PAD_PROBE_INFO_DATA(info) = list;
+    for (guint i = 0; i < gst_buffer_list_length(list); ++i)
+      stamp_packet(gst_buffer_list_get_writable(list, i));
+  } else {
+    GstBuffer* b = gst_buffer_make_writable(GST_PAD_PROBE_INFO_BUFFER(info));
+    GST_PAD_PROBE_INFO_DATA(info) = b;
+    stamp_packet(b);
+  }
+  return GST_PAD_PROBE_OK;
+}
+
+RtpSenderStats RtpSender::stats() const {
+  return {pushed_.load(), refused_.load(), packets_stamped_.load(), frames_stamped_.load()};
+}
+
+}  // namespace hd::remote

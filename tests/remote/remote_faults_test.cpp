@@ -1,0 +1,128 @@
+// Faults in the receive path (GStreamer netsim before rtpbin; netem is not available here), with
+// hybrid-remote --scene scenes/default.yaml as the sender: for 0 / 1 / 5 % loss x 0 / 20 / 50 ms
+// jitter the camera shows video and never presents an older frame as new, and after a 3 s cut
+// video is back within 1 s of the link's return. Prints the faults table (docs/network.md).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/gst_launch_sender.h"
+#include "drivers/rtp/rtp_camera.h"
+
+namespace hd::drivers {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+template <class F>
+bool wait_for(F f) {
+  for (int i = 0; i < 12000; ++i) {
+    if (f()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return f();
+}
+
+std::vector<std::string> remote_to(uint16_t port) {
+  return {HD_REMOTE_BIN, "--scene", std::string(HD_SOURCE_DIR) + "/scenes/default.yaml", "--to",
+          "rtp://127.0.0.1:" + std::to_string(port)};
+}
+
+// What a consumer (the render loop) sees while polling the mailbox each millisecond.
+struct Watch {
+  uint64_t shown = 0;
+  uint64_t older_than_shown = 0;  ///< frames presented as new that were not newer: must be 0
+  int64_t newest_ns = 0;
+  void poll(RtpCamera& cam) {
+    if (!cam.frames().fetch()) return;
+    const int64_t t = cam.frames().latest().host_timestamp_ns;
+    if (t <= newest_ns || t > monotonic_now_ns()) ++older_than_shown;
+    newest_ns = std::max(newest_ns, t);
+    ++shown;
+  }
+};
+
+TEST(RemoteFaults, LossAndJitterTableNeverPresentsOldVideoAsNew) {
+  constexpr double kSeconds = 2.0;  // of streaming per cell, after the first frame
+  std::printf(
+      "| loss | jitter ms | frames shown | frames lost (of %g s x 30 Hz) | old shown as new |\n",
+      kSeconds);
+  std::printf("|---|---|---|---|---|\n");
+  for (double loss : {0.0, 0.01, 0.05})
+    for (int jitter_ms : {0, 20, 50}) {
+      const uint16_t port = testing::free_rtp_port();
+      ASSERT_NE(port, 0);
+      RtpReceiveConfig c;
+      c.listen = {"127.0.0.1", port};
+      c.netsim_always = true;
+      c.netsim_drop_probability = loss;
+      c.netsim_max_delay_ms = jitter_ms;
+      RtpCamera cam(c);
+      cam.negotiate({640, 480, {}, 0.0});
+      cam.start();
+      testing::ChildProcess remote(remote_to(port));
+      Watch w;
+      ASSERT_TRUE(wait_for([&] {
+        w.poll(cam);
+        return w.shown > 0;
+      })) << loss
+          << " " << jitter_ms;
+      const auto end = Clock::now() + std::chrono::duration<double>(kSeconds);
+      while (Clock::now() < end) {
+        w.poll(cam);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+      const double expected = kSeconds * 30.0;
+      std::printf("| %.0f %% | 0..%d | %llu | %.0f | %llu |\n", loss * 100, jitter_ms,
+                  static_cast<unsigned long long>(w.shown),
+                  std::max(0.0, expected - double(w.shown)),
+                  static_cast<unsigned long long>(w.older_than_shown));
+      EXPECT_GT(w.shown, 1u) << loss << " " << jitter_ms;
+      EXPECT_EQ(w.older_than_shown, 0u) << loss << " " << jitter_ms;
+    }
+}
+
+TEST(RemoteFaults, AfterAThreeSecondCutVideoIsBackWithinOneSecond) {
+  const uint16_t port = testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  RtpReceiveConfig c;
+  c.listen = {"127.0.0.1", port};
+  c.netsim_always = true;
+  RtpCamera cam(c);
+  cam.negotiate({640, 480, {}, 0.0});
+  cam.start();
+  testing::ChildProcess remote(remote_to(port));
+  Watch w;
+  ASSERT_TRUE(wait_for([&] {
+    w.poll(cam);
+    return w.shown >= 10;
+  }));
+  const auto cut = Clock::now();
+  ASSERT_TRUE(cam.set_netsim_drop_probability(1.0));
+  ASSERT_TRUE(wait_for([&] { return cam.state() == SourceState::kStalled; }));
+  w.poll(cam);  // what was in flight at the cut
+  const uint64_t before = w.shown;
+  std::this_thread::sleep_until(cut + std::chrono::seconds(3));  // the cut's length, not a sync
+  w.poll(cam);
+  EXPECT_EQ(w.shown, before) << "video shown while the link was cut";
+  EXPECT_EQ(cam.state(), SourceState::kStalled);
+  const int64_t back_ns = monotonic_now_ns();
+  ASSERT_TRUE(cam.set_netsim_drop_probability(0.0));
+  ASSERT_TRUE(wait_for([&] {
+    w.poll(cam);
+    return w.shown > before && w.newest_ns > back_ns;
+  }));
+  const double to_video_s = (monotonic_now_ns() - back_ns) * 1e-9;
+  std::printf("3 s cut: video again %.3f s after the link's return (key frame every 0.5 s)\n",
+              to_video_s);
+  EXPECT_LT(to_video_s, 1.0);
+  EXPECT_EQ(w.older_than_shown, 0u);
+  EXPECT_EQ(cam.state(), SourceState::kStreaming);
+}
+
+}  // namespace
+}  // namespace hd::drivers

@@ -1,0 +1,195 @@
+// hybrid-station run --config with a network camera (rtp://127.0.0.1:PORT) fed by the issue's
+// plain standard sender, gst-launch-1.0 ... x264enc tune=zerolatency ! rtph264pay ! udpsink, on
+// a free loopback port: the camera is shown (video frames, the video variant), the start report
+// says its p_c comes from the station's calibration file and its capture time is its arrival.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "drivers/rtp/gst_launch_sender.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hd::drivers::testing::GstLaunch;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const std::size_t at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+// hybrid-station as a child whose stdout is read line by line while it runs.
+class StationProcess {
+ public:
+  explicit StationProcess(const std::vector<std::string>& args, const fs::path& err) {
+    int fds[2];
+    EXPECT_EQ(::pipe(fds), 0);
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::dup2(fds[1], 1);
+      const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      ::dup2(e, 2);
+      ::close(fds[0]);
+      std::vector<std::string> words{HD_STATION_BIN};
+      words.insert(words.end(), args.begin(), args.end());
+      std::vector<char*> argv;
+      for (std::string& w : words) argv.push_back(w.data());
+      argv.push_back(nullptr);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+    ::close(fds[1]);
+    out_ = ::fdopen(fds[0], "r");
+  }
+  ~StationProcess() { wait(); }
+
+  /// Reads stdout until a line contains `text` (true) or the program ends (false).
+  bool read_until(const std::string& text) {
+    char line[4096];
+    while (std::fgets(line, sizeof line, out_) != nullptr) {
+      all_ += line;
+      if (std::string(line).find(text) != std::string::npos) return true;
+    }
+    return false;
+  }
+  /// Reads the rest of stdout and returns the exit code.
+  int wait() {
+    if (pid_ <= 0) return code_;
+    read_until("\x01never");
+    std::fclose(out_);
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+    code_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return code_;
+  }
+  const std::string& out() const { return all_; }
+
+ private:
+  pid_t pid_ = -1;
+  FILE* out_ = nullptr;
+  std::string all_;
+  int code_ = -1;
+};
+
+// A station file in a new folder `dir` with one network camera `id`, calibrated at the plain
+// sender's size (videotestsrc: 320x240; the mock station's calibration with its size changed),
+// with `key_line` ("" or "    key_file: ...\n").
+void write_station(const fs::path& dir, const std::string& id, const std::string& key_line) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string cal = slurp(fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml");
+  cal = replaced(cal, "image_width: 640", "image_width: 320");
+  cal = replaced(cal, "image_height: 480", "image_height: 240");
+  std::ofstream(dir / "cam.yaml") << cal;
+  std::ofstream(dir / "station.yaml")
+      << "cameras:\n  - name: net\n    id: " << id << "\n    calibration: cam.yaml\n    d_m: 1.5\n"
+      << key_line
+      << "tracker: {id: mock}\n"
+         "display: {stereo: false, eye: {width: 160, height: 120, "
+         "fx: 130}}\n"
+         "workspace: {min_m: [-1, -1, 0.5], max_m: [1, 1, 2]}\n";
+}
+
+fs::path test_dir(const std::string& name) {
+  return fs::temp_directory_path() /
+         ("station_rtp_camera_test_" + std::to_string(::getpid()) + "_" + name);
+}
+
+void write_key(const fs::path& file, mode_t mode) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  ASSERT_GE(fd, 0);
+  const char* hex = "000102030405060708090a0b0c0d0e0f101112131415161718191a1b\n";
+  ASSERT_EQ(::write(fd, hex, 57), 57);
+  ::fchmod(fd, mode);
+  ::close(fd);
+}
+
+TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
+  const fs::path dir = test_dir("plain");
+  const uint16_t port = hd::drivers::testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  const std::string id = "rtp://127.0.0.1:" + std::to_string(port);
+  write_station(dir, id, "");
+  const fs::path out = dir / "out";
+  StationProcess station({"run", "--config", (dir / "station.yaml").string(), "--headless",
+                          "--seconds", "6", "--out", out.string()},
+                         dir / "stderr.txt");
+  // The sender starts once the station listens: a plain sender sends its SPS/PPS with its first
+  // key frame only, and cannot be asked for another (it has no RTCP).
+  ASSERT_TRUE(station.read_until("net (" + id + ")")) << station.out() << slurp(dir / "stderr.txt");
+  GstLaunch sender(hd::drivers::testing::plain_sender_pipeline(port));
+  ASSERT_EQ(station.wait(), 0) << station.out() << slurp(dir / "stderr.txt");
+  const std::string& report = station.out();
+  EXPECT_NE(report.find("camera   ok      net (" + id + ")"), std::string::npos) << report;
+  EXPECT_NE(report.find("p_c from the station's calibration file"), std::string::npos) << report;
+  EXPECT_NE(report.find("capture time = arrival time"), std::string::npos) << report;
+  const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
+  ASSERT_EQ(s["cameras"].size(), 1u);
+  EXPECT_GT(s["cameras"][0]["frames_shown"].get<uint64_t>(), 0u) << s.dump(1);
+  EXPECT_EQ(s["cameras"][0]["frames_rejected"].get<uint64_t>(), 0u);
+  EXPECT_GT(s["variant_frames"]["video"].get<uint64_t>(), 0u) << s.dump(1);
+  if (!::testing::Test::HasFailure()) fs::remove_all(dir);
+}
+
+TEST(StationRtpCamera, WithAKeyTheUnencryptedSenderIsNeverShownAndTheReportNamesTheKeyFile) {
+  const fs::path dir = test_dir("keyed");
+  const uint16_t port = hd::drivers::testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  const std::string id = "rtp://127.0.0.1:" + std::to_string(port);
+  write_station(dir, id, "    key_file: station.key\n");
+  write_key(dir / "station.key", 0600);
+  const fs::path out = dir / "out";
+  StationProcess station({"run", "--config", (dir / "station.yaml").string(), "--headless",
+                          "--seconds", "4", "--out", out.string()},
+                         dir / "stderr.txt");
+  ASSERT_TRUE(station.read_until("net (" + id + ")")) << station.out() << slurp(dir / "stderr.txt");
+  GstLaunch sender(hd::drivers::testing::plain_sender_pipeline(port));
+  ASSERT_EQ(station.wait(), 0) << station.out() << slurp(dir / "stderr.txt");
+  EXPECT_NE(station.out().find("SRTP AES-128-GCM required (key file " +
+                               (dir / "station.key").string() + ")"),
+            std::string::npos)
+      << station.out();
+  EXPECT_EQ(station.out().find("000102030405"), std::string::npos);
+  const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(s["cameras"][0]["frames_shown"].get<uint64_t>(), 0u) << s.dump(1);
+  EXPECT_EQ(s["variant_frames"]["video"].get<uint64_t>(), 0u) << s.dump(1);
+  if (!::testing::Test::HasFailure()) fs::remove_all(dir);
+}
+
+TEST(StationRtpCamera, AKeyFileOthersCanReadRefusesTheCamera) {
+  const fs::path dir = test_dir("open_key");
+  const uint16_t port = hd::drivers::testing::free_rtp_port();
+  const std::string id = "rtp://127.0.0.1:" + std::to_string(port);
+  write_station(dir, id, "    key_file: station.key\n");
+  write_key(dir / "station.key", 0644);
+  StationProcess station({"run", "--config", (dir / "station.yaml").string(), "--headless",
+                          "--seconds", "2", "--out", (dir / "out").string()},
+                         dir / "stderr.txt");
+  EXPECT_EQ(station.wait(), 3) << station.out();
+  const std::string err = slurp(dir / "stderr.txt") + station.out();
+  EXPECT_NE(err.find("mode 0644"), std::string::npos) << err;
+  EXPECT_NE(err.find("chmod 600"), std::string::npos) << err;
+  EXPECT_EQ(err.find("000102030405"), std::string::npos) << err;
+  if (!::testing::Test::HasFailure()) fs::remove_all(dir);
+}
+
+}  // namespace
