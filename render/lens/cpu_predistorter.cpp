@@ -7,20 +7,27 @@
 namespace hd::render::lens {
 namespace {
 
-// One channel of the eye image at continuous (u, v) (pixel centres at +0.5), bilinear with
-// 8-bit weights, clamped to the columns [x_lo, x_hi] and rows [0, y_hi] of the pixel's eye.
-inline uint32_t sample(const uint8_t* base, int stride, float u, float v, int channel, int x_lo,
+// One channel of the eye image at the fixed-point position (X, Y) = 256 * (u - 0.5, v - 0.5)
+// (pixel centres at +0.5), bilinear with 8-bit weights, clamped to the columns [x_lo, x_hi] and
+// rows [0, y_hi] of the pixel's eye.
+inline uint32_t sample_fixed(const uint8_t* base, int stride, int X, int Y, int channel, int x_lo,
+                             int x_hi, int y_hi) {
+  X = std::clamp(X, x_lo * 256, x_hi * 256 - 1);
+  Y = std::clamp(Y, 0, y_hi * 256 - 1);
+  const int x0 = X >> 8, y0 = Y >> 8;
+  const uint32_t fx = static_cast<uint32_t>(X & 255), fy = static_cast<uint32_t>(Y & 255);
+  const uint8_t* r0 = base + static_cast<std::ptrdiff_t>(y0) * stride + 4 * x0 + channel;
+  const uint8_t* r1 = r0 + stride;
+  const uint32_t top = r0[0] * (256 - fx) + r0[4] * fx;
+  const uint32_t bottom = r1[0] * (256 - fx) + r1[4] * fx;
+  return (top * (256 - fy) + bottom * fy + 32768) >> 16;
+}
+
+// The same at a continuous position.
+inline uint32_t sample(const uint8_t* base, int stride, double u, double v, int channel, int x_lo,
                        int x_hi, int y_hi) {
-  const int xi = static_cast<int>(std::floor((u - 0.5f) * 256.0f));
-  const int yi = static_cast<int>(std::floor((v - 0.5f) * 256.0f));
-  const int fx = xi & 255, fy = yi & 255;
-  const int x0 = std::clamp(xi >> 8, x_lo, x_hi), x1 = std::clamp((xi >> 8) + 1, x_lo, x_hi);
-  const int y0 = std::clamp(yi >> 8, 0, y_hi), y1 = std::clamp((yi >> 8) + 1, 0, y_hi);
-  const uint8_t* r0 = base + static_cast<std::ptrdiff_t>(y0) * stride + channel;
-  const uint8_t* r1 = base + static_cast<std::ptrdiff_t>(y1) * stride + channel;
-  const uint32_t top = r0[4 * x0] * (256 - fx) + r0[4 * x1] * fx;
-  const uint32_t bottom = r1[4 * x0] * (256 - fx) + r1[4 * x1] * fx;
-  return (top * static_cast<uint32_t>(256 - fy) + bottom * static_cast<uint32_t>(fy) + 32768) >> 16;
+  return sample_fixed(base, stride, static_cast<int>(std::floor((u - 0.5) * 256.0)),
+                      static_cast<int>(std::floor((v - 0.5) * 256.0)), channel, x_lo, x_hi, y_hi);
 }
 
 bool sizes_fit(const LensWarp& w, const ImageRgba8& eyes, const ImageRgba8& panel) {
@@ -35,12 +42,14 @@ bool sizes_fit(const LensWarp& w, const ImageRgba8& eyes, const ImageRgba8& pane
 CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads)
     : warp_(warp), threads_(std::clamp(threads, 1, 2)) {
   const int pw = warp_.panel_width(), ph = warp_.panel_height(), hw = warp_.eye_panel_width();
-  offsets_.assign(static_cast<std::size_t>(pw) * ph * 2, 0.0f);
+  positions_.assign(static_cast<std::size_t>(pw) * ph * 2, 0);
   spans_.assign(static_cast<std::size_t>(ph) * 2, Span{});
-  for (int c = 0; c < 3; ++c) scale_[c] = static_cast<float>(warp_.channel_scale(c));
+  for (int c = 0; c < 3; ++c)
+    scale_fixed_[c] = static_cast<int32_t>(std::lround(warp_.channel_scale(c) * 65536.0));
   for (int e = 0; e < 2; ++e) {
-    cx_[e] = static_cast<float>(warp_.eye(e).cx + e * warp_.eye_width());
-    cy_[e] = static_cast<float>(warp_.eye(e).cy);
+    centre_fixed_[e][0] =
+        static_cast<int32_t>(std::lround((warp_.eye(e).cx + e * warp_.eye_width() - 0.5) * 256.0));
+    centre_fixed_[e][1] = static_cast<int32_t>(std::lround((warp_.eye(e).cy - 0.5) * 256.0));
   }
   for (int y = 0; y < ph; ++y) {
     for (int e = 0; e < 2; ++e) {
@@ -51,8 +60,8 @@ CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads)
         double u = 0.0, v = 0.0;
         if (!warp_.source(e, x + 0.5, y + 0.5, 1, &u, &v)) continue;
         const std::size_t i = (static_cast<std::size_t>(y) * pw + e * hw + x) * 2;
-        offsets_[i] = static_cast<float>(u - warp_.eye(e).cx);
-        offsets_[i + 1] = static_cast<float>(v - warp_.eye(e).cy);
+        positions_[i] = static_cast<int32_t>(std::floor((u + e * warp_.eye_width() - 0.5) * 256.0));
+        positions_[i + 1] = static_cast<int32_t>(std::floor((v - 0.5) * 256.0));
         // The usable region is a disc cut by the half: one span per row.
         if (!open) s.begin = e * hw + x;
         open = true;
@@ -109,21 +118,26 @@ void CpuPredistorter::band(int row_begin, int row_end) {
   const int y_hi = warp_.eye_height() - 1;
   const uint8_t* base = eyes_->data.data();
   const int stride = eyes_->stride_bytes;
-  const float sr = scale_[0], sb = scale_[2];
+  const int64_t sr = scale_fixed_[0], sb = scale_fixed_[2];
   for (int y = row_begin; y < row_end; ++y) {
     uint32_t* out = reinterpret_cast<uint32_t*>(panel_->row(y));
-    const float* off = offsets_.data() + static_cast<std::size_t>(y) * pw * 2;
+    const int32_t* pos = positions_.data() + static_cast<std::size_t>(y) * pw * 2;
     int x = 0;
     for (int e = 0; e < 2; ++e) {
       const Span s = spans_[static_cast<std::size_t>(y) * 2 + e];
       const int x_lo = e * ew, x_hi = e * ew + ew - 1;
-      const float cx = cx_[e], cy = cy_[e];
+      const int CX = centre_fixed_[e][0], CY = centre_fixed_[e][1];
       for (; x < s.begin; ++x) out[x] = 0xFF000000u;  // opaque black (RGBA bytes 0, 0, 0, 255)
       for (; x < s.end; ++x) {
-        const float du = off[2 * x], dv = off[2 * x + 1];
-        const uint32_t r = sample(base, stride, cx + sr * du, cy + sr * dv, 0, x_lo, x_hi, y_hi);
-        const uint32_t g = sample(base, stride, cx + du, cy + dv, 1, x_lo, x_hi, y_hi);
-        const uint32_t b = sample(base, stride, cx + sb * du, cy + sb * dv, 2, x_lo, x_hi, y_hi);
+        const int X = pos[2 * x], Y = pos[2 * x + 1];
+        const int64_t dX = X - CX, dY = Y - CY;
+        const int XR = CX + static_cast<int>((dX * sr) >> 16),
+                  YR = CY + static_cast<int>((dY * sr) >> 16);
+        const int XB = CX + static_cast<int>((dX * sb) >> 16),
+                  YB = CY + static_cast<int>((dY * sb) >> 16);
+        const uint32_t r = sample_fixed(base, stride, XR, YR, 0, x_lo, x_hi, y_hi);
+        const uint32_t g = sample_fixed(base, stride, X, Y, 1, x_lo, x_hi, y_hi);
+        const uint32_t b = sample_fixed(base, stride, XB, YB, 2, x_lo, x_hi, y_hi);
         out[x] = r | (g << 8) | (b << 16) | 0xFF000000u;
       }
       const int half_end = (e + 1) * warp_.eye_panel_width();
@@ -143,8 +157,8 @@ bool CpuPredistorter::apply_exact(const ImageRgba8& eyes, ImageRgba8& panel) con
         for (int c = 0; c < 3; ++c) {
           double u = 0.0, v = 0.0;
           if (!warp_.source(e, x + 0.5, y + 0.5, c, &u, &v)) break;
-          px |= sample(eyes.data.data(), eyes.stride_bytes, static_cast<float>(u + e * ew),
-                       static_cast<float>(v), c, e * ew, e * ew + ew - 1, warp_.eye_height() - 1)
+          px |= sample(eyes.data.data(), eyes.stride_bytes, u + e * ew, v, c, e * ew,
+                       e * ew + ew - 1, warp_.eye_height() - 1)
                 << (8 * c);
         }
         out[e * hw + x] = px;

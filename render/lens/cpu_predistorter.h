@@ -17,11 +17,12 @@ namespace hd::render::lens {
 /// 8-bit fixed-point weights (the CPU compositor's sampler; clamped to the pixel's own eye
 /// image); alpha is 255, and pixels beyond the usable lens radius are opaque black.
 ///
-/// The lookup table is built once in the constructor: per panel pixel the green sample's offset
-/// from its eye's principal point (two floats), and per row and eye the span of usable pixels.
-/// R and B need no entries of their own: in the lens model their offsets are the green one
-/// scaled by aberration[c] / aberration[G], exactly. apply() allocates nothing; with threads = 2
-/// the rows are split into two bands, one done by a persistent worker woken through an atomic.
+/// The lookup table is built once in the constructor: per panel pixel the green sample's position
+/// in 1/256 px (two int32), and per row and eye the span of usable pixels. R and B need no
+/// entries of their own: in the lens model their offsets from the eye's principal point are the
+/// green one scaled by aberration[c] / aberration[G], exactly (done in 16.16 fixed point). apply()
+/// allocates nothing; with threads = 2 the rows are split into two bands, one done by a persistent
+/// worker woken through an atomic.
 class CpuPredistorter {
  public:
   CpuPredistorter(const LensWarp& warp, int threads = 1);
@@ -47,10 +48,11 @@ class CpuPredistorter {
   void worker_loop();
 
   LensWarp warp_;
-  std::vector<float> offsets_;  ///< per panel pixel: green sample - eye principal point (u, v)
-  std::vector<Span> spans_;     ///< [row * 2 + eye]
-  float scale_[3] = {1, 1, 1};
-  float cx_[2] = {0, 0}, cy_[2] = {0, 0};  ///< principal points in the eyes' picture
+  /// Per panel pixel: the green sample in the eyes' picture, 256 * (u - 0.5, v - 0.5).
+  std::vector<int32_t> positions_;
+  std::vector<Span> spans_;                         ///< [row * 2 + eye]
+  int32_t scale_fixed_[3] = {65536, 65536, 65536};  ///< channel_scale * 2^16
+  int32_t centre_fixed_[2][2] = {};                 ///< principal points, as positions_
 
   const ImageRgba8* eyes_ = nullptr;  ///< valid during apply only
   ImageRgba8* panel_ = nullptr;
