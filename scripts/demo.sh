@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job: installs what is needed, builds, and runs the station headless on the default
-# simulated scene (scenes/default.yaml: a pick-and-place seen by two simulated cameras, the head
+# simulated scene (scenes/default.yaml: a pick-and-place seen by three simulated cameras, two of
+# them a stereo pair that reconstructs the moved block into the model, the head
 # moving away from camera 0 and back over 20 s, so the view goes video -> hybrid -> synthetic ->
 # hybrid -> video). Outputs land in out/demo/ (README.md "What the demo leaves").
 set -euo pipefail

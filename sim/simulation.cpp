@@ -105,6 +105,15 @@ std::vector<drivers::CalibratedCamera> Simulation::station_cameras() {
   return out;
 }
 
+render::SyntheticScene Simulation::static_model() const {
+  render::SyntheticScene s;
+  s.background_rgb = model_.background_rgb;
+  s.revision = model_.revision;
+  const std::size_t n = object_meshes_.empty() ? model_.meshes.size() : object_meshes_[0].first;
+  s.meshes.assign(model_.meshes.begin(), model_.meshes.begin() + static_cast<std::ptrdiff_t>(n));
+  return s;
+}
+
 void Simulation::place_objects(render::SyntheticScene& model, double t_s) const {
   std::size_t local = 0;
   for (std::size_t o = 0; o < object_meshes_.size(); ++o) {

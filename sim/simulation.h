@@ -62,6 +62,9 @@ class Simulation {
   // ---- the a-priori model ----
   /// Static geometry followed by the moving objects placed at t = 0.
   const render::SyntheticScene& model() const { return model_; }
+  /// The static geometry only (the scene's `geometry:`), without the moving objects: what a
+  /// station knows a priori when moved objects are reconstructed (MovedObjects::kReconstructed).
+  render::SyntheticScene static_model() const;
   /// Moves the moving objects' meshes of `model` (a copy of model()) to where they are at t_s
   /// and bumps its revision. Rewrites vertex positions only: no allocation.
   void place_objects(render::SyntheticScene& model, double t_s) const;

@@ -148,6 +148,31 @@ struct SceneEffects {
   std::vector<std::string> names() const;
 };
 
+/// Two cameras the model updater reconstructs the workspace from (docs/reconstruction.md): the
+/// left camera's pixels index the depth mesh; disparities d = x_left - x_right in rectified
+/// pixels, accepted in [min_disparity_px, min_disparity_px + num_disparities_px).
+struct SceneStereoPair {
+  std::string left;  ///< camera names (SceneCamera::name)
+  std::string right;
+  int min_disparity_px = 8;
+  int num_disparities_px = 64;
+  std::string matcher = "sgbm-scaled";  ///< "sgbm-scaled", "sgbm" or "bm" (recon::MatcherKind)
+  /// The pair is reconstructed at every `every_updates`-th model update (the model's rate / n).
+  int every_updates = 1;
+  int line = 0;  ///< in the scene file, for messages
+};
+
+/// How the station's model learns where moved objects are.
+/// kReconstructed (default): the model holds the static geometry only; the stereo pairs'
+/// reconstruction adds what is not in it (nothing, without a pair). kGroundTruth: the
+/// simulator places the moving objects in the model at the frames' capture time (for
+/// comparisons only: no real station knows this).
+enum class MovedObjects { kReconstructed, kGroundTruth };
+
+struct SceneModelOptions {
+  MovedObjects moved_objects = MovedObjects::kReconstructed;
+};
+
 /// Station parameters the scene suggests (the station config or command line may override).
 struct SceneStationHints {
   std::optional<double> m_t;
@@ -170,6 +195,8 @@ struct Scene {
   std::vector<SceneCamera> cameras;
   SceneHead head;
   SceneEffects effects;
+  std::vector<SceneStereoPair> stereo;
+  SceneModelOptions model;
   SceneStationHints station;
 };
 

@@ -92,12 +92,27 @@ std::vector<std::size_t> ThumbnailSet::pick(std::size_t n) const {
   return picks;
 }
 
+void ThumbnailSet::set_extra_tile(const cv::Mat& bgr, std::string label) {
+  extra_ = cv::Mat(tile_h_, tile_w_, CV_8UC3, cv::Scalar(40, 40, 40));
+  if (!bgr.empty()) {
+    const double s =
+        std::min(static_cast<double>(tile_w_) / bgr.cols, static_cast<double>(tile_h_) / bgr.rows);
+    const int w = std::max(1, static_cast<int>(bgr.cols * s)),
+              h = std::max(1, static_cast<int>(bgr.rows * s));
+    cv::Mat fitted;
+    cv::resize(bgr, fitted, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    fitted.copyTo(extra_(cv::Rect((tile_w_ - w) / 2, (tile_h_ - h) / 2, w, h)));
+  }
+  extra_label_ = std::move(label);
+}
+
 cv::Mat ThumbnailSet::compose(std::size_t n, int columns) const {
   const std::vector<std::size_t> picks = pick(n);
   if (picks.empty()) throw std::invalid_argument("contact sheet: no frames");
   constexpr int kLabel = 22, kPad = 6;
-  const int cols = std::min<int>(columns, static_cast<int>(picks.size()));
-  const int rows = (static_cast<int>(picks.size()) + cols - 1) / cols;
+  const std::size_t tiles = picks.size() + (extra_.empty() ? 0 : 1);
+  const int cols = std::min<int>(columns, static_cast<int>(tiles));
+  const int rows = (static_cast<int>(tiles) + cols - 1) / cols;
   const int cell_w = tile_w_ + kPad, cell_h = tile_h_ + kLabel + kPad;
   cv::Mat sheet(rows * cell_h + kPad, cols * cell_w + kPad, CV_8UC3, cv::Scalar(40, 40, 40));
   for (std::size_t k = 0; k < picks.size(); ++k) {
@@ -117,6 +132,17 @@ cv::Mat ThumbnailSet::compose(std::size_t n, int columns) const {
                     variant_name(m.variant));
     const double scale = std::min(0.45, 0.45 * tile_w_ / 300.0);
     cv::putText(sheet, label, {x + 4, y + tile_h_ + 16}, cv::FONT_HERSHEY_SIMPLEX, scale,
+                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  }
+  if (!extra_.empty()) {
+    const std::size_t k = picks.size();
+    const int x = kPad + static_cast<int>(k % static_cast<std::size_t>(cols)) * cell_w;
+    const int y = kPad + static_cast<int>(k / static_cast<std::size_t>(cols)) * cell_h;
+    extra_.copyTo(sheet(cv::Rect(x, y, tile_w_, tile_h_)));
+    cv::rectangle(sheet, cv::Rect(x, y + tile_h_, tile_w_, kLabel), cv::Scalar(200, 120, 200),
+                  cv::FILLED);
+    const double scale = std::min(0.4, 0.4 * tile_w_ / 300.0);
+    cv::putText(sheet, extra_label_, {x + 4, y + tile_h_ + 16}, cv::FONT_HERSHEY_SIMPLEX, scale,
                 cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   }
   return sheet;

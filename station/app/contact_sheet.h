@@ -47,7 +47,13 @@ class ThumbnailSet {
   /// farthest in time from those already picked.
   std::vector<std::size_t> pick(std::size_t n) const;
 
-  /// The sheet: picked tiles in rows of `columns`, each labelled "#frame t variant m".
+  /// One more tile, after the picked ones: a picture that is not a frame of the run (the model
+  /// tile: the newest model with its reconstructed part tinted). Fitted into a tile, `label`
+  /// under it. Set after the run, on the thread that composes.
+  void set_extra_tile(const cv::Mat& bgr, std::string label);
+
+  /// The sheet: picked tiles in rows of `columns`, each labelled "#frame t variant m", then the
+  /// extra tile if one was set.
   cv::Mat compose(std::size_t n = 12, int columns = 4) const;
 
  private:
@@ -60,6 +66,8 @@ class ThumbnailSet {
   std::vector<FrameMeta> metas_;
   std::size_t count_ = 0;
   cv::Mat rgba_scaled_;
+  cv::Mat extra_;  ///< tile-sized BGR, empty = none
+  std::string extra_label_;
 };
 
 /// compose() written atomically to `path`; throws naming the file when there is no candidate.

@@ -1,4 +1,5 @@
 // assemble_from_scene: the simulated station (scene file -> Simulation -> mock devices).
+#include <algorithm>
 #include <cstdio>
 
 #include "station/app/station_parts.h"
@@ -45,13 +46,25 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
   sim::Simulation& sim = *p->simulation;
   const auto& staleness = sim.model_staleness();
 
+  const bool ground_truth = sim.scene().model.moved_objects == sim::MovedObjects::kGroundTruth;
+  const std::vector<sim::SceneStereoPair> stereo =
+      ground_truth ? std::vector<sim::SceneStereoPair>{} : sim.scene().stereo;
+  auto in_pair = [&](const std::string& name) {
+    for (const sim::SceneStereoPair& sp : stereo)
+      if (sp.left == name || sp.right == name) return true;
+    return false;
+  };
+
   // Cameras: each simulated device through the station's pipeline, as a real one would be.
   const std::vector<drivers::CalibratedCamera> sim_cams = sim.station_cameras();
+  std::vector<std::string> opened_names;  // scene names of p->cameras, in order
   for (std::size_t i = 0; i < sim_cams.size(); ++i) {
     const sim::SceneCamera& sc = sim.scene().cameras[i];
     station::CameraPipelineConfig pc;
     pc.p_c = sim_cams[i].p_c;
     pc.model_period_s = staleness ? staleness->period_s : 1.0;
+    // A pair's cameras hand every frame to the model, so the updater finds two of one exposure.
+    if (in_pair(sc.name)) pc.model_period_s = 0.0;
     auto pipe = std::make_unique<station::CameraPipeline>(*sim_cams[i].source, pc);
     const std::string id = sim_cams[i].source->id();
     try {
@@ -71,6 +84,7 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
     cam.source = pipe.get();
     p->cameras.push_back(cam);
     p->camera_names.push_back(id);
+    opened_names.push_back(sc.name);
     p->pipelines.push_back(std::move(pipe));
   }
 
@@ -91,24 +105,66 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
     p->report.missing("tracker", sim.head().id(), e.what(), false);
   }
 
-  // Model: the scene's geometry; re-textured from the cameras with the staleness the scene sets.
-  p->model = sim.model();
-  if (staleness && !p->pipelines.empty()) {
+  // Model: the scene's static geometry, completed by the stereo pairs' reconstruction (or, for
+  // comparisons only, with the moving objects placed from the simulator's ground truth), and
+  // re-textured from the cameras with the staleness the scene sets.
+  p->model = ground_truth ? sim.model() : sim.static_model();
+  std::vector<station::ModelStereoPair> pairs;
+  for (const sim::SceneStereoPair& sp : stereo) {
+    const auto l = std::find(opened_names.begin(), opened_names.end(), sp.left);
+    const auto r = std::find(opened_names.begin(), opened_names.end(), sp.right);
+    const std::string name = sp.left + "+" + sp.right;
+    if (l == opened_names.end() || r == opened_names.end()) {
+      p->report.missing("stereo pair", name, "a camera of the pair did not open", true);
+      continue;
+    }
+    station::ModelStereoPair mp;
+    mp.name = name;
+    mp.left = static_cast<std::size_t>(l - opened_names.begin());
+    mp.right = static_cast<std::size_t>(r - opened_names.begin());
+    mp.every_updates = sp.every_updates;
+    mp.reconstruction.matcher.kind = recon::matcher_kind_from_string(sp.matcher);
+    mp.reconstruction.matcher.min_disparity_px = sp.min_disparity_px;
+    mp.reconstruction.matcher.num_disparities_px = sp.num_disparities_px;
+    mp.reconstruction.measure_row_error = false;  // the rig is the scene's: exact
+    mp.bounds = workspace;
+    mp.use_bounds = true;
+    pairs.push_back(mp);
+  }
+  if ((staleness || !pairs.empty()) && !p->pipelines.empty()) {
     std::vector<station::ModelCamera> mc;
     for (std::size_t i = 0; i < p->pipelines.size(); ++i)
       mc.push_back(
           {&p->pipelines[i]->model_frames(), p->cameras[i].p_c, p->cameras[i].T_world_real});
     station::ModelUpdaterConfig uc;
-    uc.refresh_period_s = staleness->period_s;
-    uc.delay_s = staleness->delay_s;
-    uc.move_objects = [&sim](render::SyntheticScene& m, int64_t capture_ns) {
-      sim.place_objects(m, sim.scene_time_s(capture_ns));
-    };
+    uc.refresh_period_s = staleness ? staleness->period_s : 1.0;
+    uc.delay_s = staleness ? staleness->delay_s : 0.0;
+    if (ground_truth) {
+      uc.move_objects = [&sim](render::SyntheticScene& m, int64_t capture_ns) {
+        sim.place_objects(m, sim.scene_time_s(capture_ns));
+      };
+    }
+    uc.stereo_pairs = pairs;
     p->updater_clock = std::make_unique<render::MonotonicLoopClock>();
-    p->updater = std::make_unique<station::ModelUpdater>(p->model, mc, uc, *p->updater_clock);
+    try {
+      p->updater = std::make_unique<station::ModelUpdater>(p->model, mc, uc, *p->updater_clock);
+    } catch (const std::exception& e) {
+      // A pair that cannot be reconstructed: the model is re-textured without reconstruction.
+      p->report.missing("stereo pair", "model", e.what(), true);
+      uc.stereo_pairs.clear();
+      p->updater = std::make_unique<station::ModelUpdater>(p->model, mc, uc, *p->updater_clock);
+    }
+    std::string recon_note = "moved objects: ground truth (comparison only)";
+    if (!ground_truth) {
+      recon_note = "moved objects: reconstructed by ";
+      std::string names;
+      for (const auto& mp : uc.stereo_pairs) names += (names.empty() ? "" : ", ") + mp.name;
+      recon_note += names.empty() ? "no stereo pair (not in the model)" : names;
+    }
     p->report.opened("model", "scene geometry",
-                     fmt("%g meshes, re-textured from the cameras every %g s with %g s delay",
-                         p->model.meshes.size(), staleness->period_s, staleness->delay_s));
+                     fmt("%g meshes, re-textured from the cameras every %g s with %g s delay; ",
+                         p->model.meshes.size(), uc.refresh_period_s, uc.delay_s) +
+                         recon_note);
   } else {
     p->report.opened("model", "scene geometry",
                      fmt("%g meshes as the scene defines them (no model_staleness effect: never "

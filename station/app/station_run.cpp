@@ -27,6 +27,7 @@
 #include "station/app/frame_log.h"
 #include "station/app/frame_recorder.h"
 #include "station/app/frames_csv.h"
+#include "station/app/model_tile.h"
 #include "station/app/run_progress.h"
 #include "station/app/run_summary.h"
 #include "station/app/run_work.h"
@@ -287,6 +288,23 @@ int run(const RunOptions& o) {
   if (log.size() > 0) {
     write_trace_png(log, p.frame_config.transition, dir + "trace.png");
     s.outputs.push_back(dir + "trace.png");
+  }
+  if (thumbs.size() > 0 && p.updater && !p.cameras.empty()) {
+    // The newest model (the loop is over: this thread is the mailbox's consumer now), seen from
+    // the camera farthest from the first one (in the default scene cam1, beside the rig, so the
+    // reconstruction shows as a surface, not as the picture it was measured from), its
+    // reconstructed part tinted.
+    p.updater->models().fetch();
+    const station::ModelSnapshot& snap = p.updater->models().latest();
+    std::size_t view = 0;
+    for (std::size_t i = 1; i < p.cameras.size(); ++i)
+      if ((p.cameras[i].T_world_real.t - p.cameras[0].T_world_real.t).norm() >
+          (p.cameras[view].T_world_real.t - p.cameras[0].T_world_real.t).norm())
+        view = i;
+    if (snap.scene.meshes.size() > snap.prior_meshes)
+      thumbs.set_extra_tile(
+          station::render_model_tile(snap, p.cameras[view].p_c, p.cameras[view].T_world_real),
+          station::model_tile_label(snap));
   }
   if (thumbs.size() > 0) {
     write_contact_sheet(thumbs, dir + "contact_sheet.png", o.contact_tiles);

@@ -17,6 +17,10 @@ struct ModelSnapshot {
   int64_t taken_ns = 0;      ///< when the updater took the frames (its clock)
   int64_t published_ns = 0;  ///< when this snapshot was published (its clock)
   uint64_t update = 0;       ///< 1 for the first update, 0 for the a-priori model
+  /// scene.meshes[0, prior_meshes) are the a-priori model; the meshes after them are the stereo
+  /// pairs' reconstruction (one per pair, empty = nothing new seen), as the contact sheet tints.
+  std::size_t prior_meshes = 0;
+  int64_t reconstruct_ns = 0;  ///< what the reconstruction of this update took (0: none)
 };
 
 }  // namespace hd::station

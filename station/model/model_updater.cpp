@@ -8,12 +8,24 @@
 namespace hd::station {
 namespace {
 
-// Copies what an update changes (vertex positions and texels) into a slot made from the same
-// initial model: equal sizes, so nothing is reallocated.
-void copy_model(const render::SyntheticScene& src, render::SyntheticScene& dst) {
+// Copies what an update changes into a slot made from the same initial model: the a-priori
+// meshes' vertex positions and texels (equal sizes, nothing reallocated) and the reconstructed
+// meshes whole (their vectors keep their capacity, so a slot grows only to the largest mesh).
+void copy_model(const render::SyntheticScene& src, render::SyntheticScene& dst,
+                std::size_t prior_meshes) {
   for (std::size_t m = 0; m < src.meshes.size() && m < dst.meshes.size(); ++m) {
     const render::TexturedMesh& s = src.meshes[m];
     render::TexturedMesh& d = dst.meshes[m];
+    if (m >= prior_meshes) {
+      d.positions_m = s.positions_m;
+      d.uvs = s.uvs;
+      d.triangles = s.triangles;
+      d.texture.width = s.texture.width;
+      d.texture.height = s.texture.height;
+      d.texture.stride_bytes = s.texture.stride_bytes;
+      d.texture.data = s.texture.data;
+      continue;
+    }
     if (d.positions_m.size() == s.positions_m.size())
       std::copy(s.positions_m.begin(), s.positions_m.end(), d.positions_m.begin());
     if (d.texture.data.size() == s.texture.data.size())
@@ -22,9 +34,17 @@ void copy_model(const render::SyntheticScene& src, render::SyntheticScene& dst) 
   dst.revision = src.revision;
 }
 
-ModelSnapshot initial_snapshot(const render::SyntheticScene& initial) {
+// The a-priori model followed by one empty mesh per stereo pair.
+render::SyntheticScene with_pair_meshes(const render::SyntheticScene& initial, std::size_t pairs) {
+  render::SyntheticScene s = initial;
+  s.meshes.resize(initial.meshes.size() + pairs);
+  return s;
+}
+
+ModelSnapshot initial_snapshot(const render::SyntheticScene& initial, std::size_t prior_meshes) {
   ModelSnapshot s;
   s.scene = initial;
+  s.prior_meshes = prior_meshes;
   return s;
 }
 
@@ -47,9 +67,10 @@ ModelUpdater::ModelUpdater(const render::SyntheticScene& initial,
     : config_(std::move(config)),
       clock_(clock),
       cameras_(cameras.begin(), cameras.end()),
-      working_(initial),
+      prior_meshes_(initial.meshes.size()),
+      working_(with_pair_meshes(initial, config_.stereo_pairs.size())),
       extractor_(config_.extractor),
-      models_(initial_snapshot(initial)),
+      models_(initial_snapshot(working_, initial.meshes.size())),
       revision_(initial.revision) {
   if (!std::isfinite(config_.refresh_period_s) || config_.refresh_period_s <= 0)
     throw std::invalid_argument("model updater: refresh period must be positive seconds, got " +
@@ -59,8 +80,21 @@ ModelUpdater::ModelUpdater(const render::SyntheticScene& initial,
                                 std::to_string(config_.delay_s));
   period_ns_ = static_cast<int64_t>(std::llround(config_.refresh_period_s * 1e9));
   delay_ns_ = static_cast<int64_t>(std::llround(config_.delay_s * 1e9));
+  if (!std::isfinite(config_.pair_sync_timeout_s) || config_.pair_sync_timeout_s < 0)
+    throw std::invalid_argument("model updater: pair sync timeout must be >= 0 seconds");
+  for (const ModelStereoPair& p : config_.stereo_pairs) {
+    if (p.left >= cameras_.size() || p.right >= cameras_.size() || p.left == p.right)
+      throw std::invalid_argument("model updater: stereo pair " + p.name +
+                                  " names a camera that is not there (" + std::to_string(p.left) +
+                                  ", " + std::to_string(p.right) + " of " +
+                                  std::to_string(cameras_.size()) + ")");
+    const ModelCamera& l = cameras_[p.left];
+    const ModelCamera& r = cameras_[p.right];
+    pairs_.push_back(std::make_unique<PairReconstruction>(p, l.p_c, l.T_world_cam, r.p_c,
+                                                          r.T_world_cam, initial));
+  }
   views_.reserve(cameras_.size());
-  extractor_.prepare(working_);
+  extractor_.prepare(initial);  // the a-priori meshes; the reconstructed ones only occlude
 }
 
 ModelUpdater::~ModelUpdater() {
@@ -86,16 +120,47 @@ ModelUpdaterStats ModelUpdater::stats() const {
   s.last_extract_ns = last_extract_ns_.load();
   s.max_extract_ns = max_extract_ns_.load();
   s.last_texels_updated = last_texels_.load();
+  s.reconstructions = reconstructions_.load();
+  s.reconstructions_refused = refused_.load();
+  s.last_reconstruct_ns = last_reconstruct_ns_.load();
+  s.max_reconstruct_ns = max_reconstruct_ns_.load();
+  s.last_reconstructed_vertices = last_recon_vertices_.load();
   return s;
 }
 
-bool ModelUpdater::take_frames() {
+void ModelUpdater::sync_pairs(const std::atomic<bool>* running) {
+  const int64_t deadline =
+      clock_.now_ns() + static_cast<int64_t>(std::llround(config_.pair_sync_timeout_s * 1e9));
+  constexpr int64_t kPollNs = 2'000'000;
+  for (const auto& pr : pairs_) {
+    const ModelStereoPair& p = pr->pair();
+    if (attempts_ % static_cast<uint64_t>(p.every_updates) != 0) continue;
+    drivers::Mailbox<drivers::Frame>* a = cameras_[p.left].frames;
+    drivers::Mailbox<drivers::Frame>* b = cameras_[p.right].frames;
+    if (a == nullptr || b == nullptr) continue;
+    for (;;) {
+      const int64_t ta = a->latest().host_timestamp_ns, tb = b->latest().host_timestamp_ns;
+      if (ta == 0 || tb == 0) break;  // a camera without a frame: the pair is refused
+      if (std::llabs(ta - tb) <= p.reconstruction.max_pair_skew_ns) break;
+      const int64_t now = clock_.now_ns();
+      if (now >= deadline || (running && !running->load(std::memory_order_acquire))) break;
+      // The older camera's next frame is (nearly) the other one's exposure.
+      if (!(ta < tb ? a : b)->fetch()) clock_.sleep_until_ns(now + kPollNs);
+    }
+  }
+}
+
+bool ModelUpdater::take_frames(const std::atomic<bool>* running) {
   views_.clear();  // keeps capacity: no allocation
   capture_oldest_ns_ = std::numeric_limits<int64_t>::max();
   capture_newest_ns_ = std::numeric_limits<int64_t>::min();
+  for (const ModelCamera& cam : cameras_)
+    if (cam.frames != nullptr)
+      cam.frames->fetch();  // the newest model frame; the previous one when nothing new came
+  if (!pairs_.empty()) sync_pairs(running);
+  // Views are taken after the last fetch: a view points into its mailbox's read slot.
   for (const ModelCamera& cam : cameras_) {
     if (cam.frames == nullptr) continue;
-    cam.frames->fetch();  // the newest model frame; the previous one when nothing new came
     const drivers::Frame& f = cam.frames->latest();
     if (f.host_timestamp_ns == 0 || f.data.empty()) continue;  // never published
     views_.push_back({&f, cam.p_c, cam.T_world_cam});
@@ -110,13 +175,49 @@ bool ModelUpdater::update_once() {
   return update(nullptr);
 }
 
+void ModelUpdater::reconstruct_pairs() {
+  const int64_t t0 = clock_.now_ns();
+  uint64_t vertices = 0;
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    PairReconstruction& pr = *pairs_[k];
+    const ModelStereoPair& p = pr.pair();
+    if (attempts_ % static_cast<uint64_t>(p.every_updates) == 0) {
+      static const drivers::Frame kMissing{};
+      const drivers::Frame& l =
+          cameras_[p.left].frames ? cameras_[p.left].frames->latest() : kMissing;
+      const drivers::Frame& r =
+          cameras_[p.right].frames ? cameras_[p.right].frames->latest() : kMissing;
+      if (pr.update(l, r)) {
+        working_.meshes[prior_meshes_ + k] = pr.mesh();
+        reconstructions_.fetch_add(1, std::memory_order_relaxed);
+      } else {
+        refused_.fetch_add(1, std::memory_order_relaxed);
+      }
+    }
+    // What the model shows of this pair is as old as the frames it was measured from.
+    if (pr.capture_ns() > 0) {
+      capture_oldest_ns_ = std::min(capture_oldest_ns_, pr.capture_ns());
+      capture_newest_ns_ = std::max(capture_newest_ns_, pr.capture_ns());
+    }
+    vertices += working_.meshes[prior_meshes_ + k].positions_m.size();
+  }
+  reconstruct_ns_ = clock_.now_ns() - t0;
+  last_reconstruct_ns_.store(reconstruct_ns_, std::memory_order_relaxed);
+  if (reconstruct_ns_ > max_reconstruct_ns_.load(std::memory_order_relaxed))
+    max_reconstruct_ns_.store(reconstruct_ns_, std::memory_order_relaxed);
+  last_recon_vertices_.store(vertices, std::memory_order_relaxed);
+}
+
 bool ModelUpdater::update(const std::atomic<bool>* running) {
-  if (!take_frames()) {
+  if (!take_frames(running)) {
     without_frames_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
   if (delay_ns_ > 0) sleep_until(clock_, taken_ns_ + delay_ns_, running);
   if (running && !running->load(std::memory_order_acquire)) return false;  // stopped meanwhile
+  reconstruct_ns_ = 0;
+  if (!pairs_.empty()) reconstruct_pairs();
+  ++attempts_;
   if (config_.move_objects) config_.move_objects(working_, capture_oldest_ns_);
   const int64_t t0 = clock_.now_ns();
   extractor_.extract(working_, views_);
@@ -132,7 +233,9 @@ bool ModelUpdater::update(const std::atomic<bool>* running) {
 
 void ModelUpdater::publish() {
   ModelSnapshot& slot = models_.write_slot();
-  copy_model(working_, slot.scene);
+  copy_model(working_, slot.scene, prior_meshes_);
+  slot.prior_meshes = prior_meshes_;
+  slot.reconstruct_ns = reconstruct_ns_;
   slot.capture_oldest_ns = capture_oldest_ns_;
   slot.capture_newest_ns = capture_newest_ns_;
   slot.taken_ns = taken_ns_;

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <thread>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "drivers/mailbox.h"
 #include "render/loop/loop_clock.h"
 #include "station/model/model_snapshot.h"
+#include "station/model/pair_reconstruction.h"
 #include "station/model/texture_extractor.h"
 
 namespace hd::station {
@@ -28,7 +30,9 @@ struct ModelCamera {
 
 /// Moves the model's moving objects (vertex positions only: same counts, same textures) to
 /// where they were at `capture_ns` (CLOCK_MONOTONIC, the oldest frame used in this update).
-/// The simulator provides one; a real station passes none (its geometry is static).
+/// Only the simulator can provide one, from its ground truth, and only when a scene asks for it
+/// (`model.moved_objects: ground-truth`, for comparisons); a station's model otherwise learns of
+/// moved objects from its stereo pairs.
 using MoveModelObjects = std::function<void(render::SyntheticScene& model, int64_t capture_ns)>;
 
 struct ModelUpdaterConfig {
@@ -40,6 +44,12 @@ struct ModelUpdaterConfig {
   double delay_s = 0.0;
   MoveModelObjects move_objects{};
   TextureExtractorParams extractor{};
+  /// Camera pairs reconstructed at each update (indices into the cameras): their meshes of what
+  /// the a-priori model does not hold follow the a-priori meshes in every snapshot.
+  std::vector<ModelStereoPair> stereo_pairs{};
+  /// How long an update waits for a pair's two newest frames to be of one exposure (the older
+  /// camera's mailbox is polled) before the pair is refused as unsynchronised.
+  double pair_sync_timeout_s = 0.1;
 };
 
 /// Measured by the updater's thread (read from any thread).
@@ -50,20 +60,32 @@ struct ModelUpdaterStats {
   int64_t last_extract_ns = 0;          ///< duration of the newest extraction
   int64_t max_extract_ns = 0;
   uint64_t last_texels_updated = 0;
+  uint64_t reconstructions = 0;          ///< pair reconstructions that rebuilt a mesh
+  uint64_t reconstructions_refused = 0;  ///< pairs refused (missing, unsynchronised, not newer)
+  int64_t last_reconstruct_ns = 0;       ///< all pairs of the newest update
+  int64_t max_reconstruct_ns = 0;
+  uint64_t last_reconstructed_vertices = 0;  ///< all pairs' meshes in the newest snapshot
 };
 
 /// Background thread: every refresh period it takes the newest model frame of each camera (a
-/// camera with no frame yet is left out), waits `delay_s`, moves the objects to the frames'
-/// capture time, projects the frames onto its working copy of the model (TextureExtractor),
-/// bumps `revision` and publishes a ModelSnapshot into `models()`. The mailbox's three slots are
-/// copies of the initial model made in the constructor; publishing copies into a slot without
-/// reallocating (the model's shape never changes), so the station's fetch is lock- and
-/// allocation-free. Until the first update, `models().latest()` is the initial (a-priori) model
-/// with capture times 0. Slots not yet published show that model too.
+/// camera with no frame yet is left out; the two cameras of a stereo pair are waited for until
+/// their frames are of one exposure), waits `delay_s`, reconstructs the pairs that are due
+/// (PairReconstruction: their meshes of what the a-priori model lacks replace the previous
+/// ones), moves the objects to the frames' capture time when a ground-truth callback is given,
+/// projects the frames onto its working copy of the a-priori meshes (TextureExtractor; the
+/// reconstructed meshes occlude), bumps `revision` and publishes a ModelSnapshot into
+/// `models()`. A snapshot's capture_oldest_ns is the oldest frame in it, reconstructed meshes
+/// included, and its publish time comes after the reconstruction: the model's age includes it.
+/// The mailbox's three slots are copies of the initial model made in the constructor;
+/// publishing copies the a-priori part into a slot without reallocating (the reconstructed
+/// meshes may grow a slot, on this thread), so the station's fetch is lock- and allocation-free.
+/// Until the first update, `models().latest()` is the initial (a-priori) model with capture
+/// times 0 and empty reconstructed meshes. Slots not yet published show that model too.
 class ModelUpdater {
  public:
   /// `clock` (now + absolute sleeps) must outlive the updater; tests pass a fake one.
-  /// Throws std::invalid_argument for a non-positive or non-finite period or a negative delay.
+  /// Throws std::invalid_argument for a non-positive or non-finite period or a negative delay,
+  /// a pair naming a camera that is not there; recon::RigError for a pair that cannot be one.
   ModelUpdater(const render::SyntheticScene& initial, std::span<const ModelCamera> cameras,
                ModelUpdaterConfig config, render::LoopClock& clock);
   ~ModelUpdater();  ///< stops
@@ -87,12 +109,18 @@ class ModelUpdater {
  private:
   void run();
   bool update(const std::atomic<bool>* running);  ///< running: cut a delay wait short on stop
-  bool take_frames();
+  bool take_frames(const std::atomic<bool>* running);
+  void sync_pairs(const std::atomic<bool>* running);
+  void reconstruct_pairs();
   void publish();
 
   ModelUpdaterConfig config_;
   render::LoopClock& clock_;
   std::vector<ModelCamera> cameras_;
+  std::vector<std::unique_ptr<PairReconstruction>> pairs_;
+  std::size_t prior_meshes_ = 0;  ///< meshes [0, prior_meshes_) are the a-priori model
+  uint64_t attempts_ = 0;         ///< updates with frames (a pair is due every n-th)
+  int64_t reconstruct_ns_ = 0;
   std::vector<ExtractionView> views_;  ///< the cameras that had a frame this update
   render::SyntheticScene working_;
   TextureExtractor extractor_;
@@ -112,6 +140,11 @@ class ModelUpdater {
   std::atomic<int64_t> last_extract_ns_{0};
   std::atomic<int64_t> max_extract_ns_{0};
   std::atomic<uint64_t> last_texels_{0};
+  std::atomic<uint64_t> reconstructions_{0};
+  std::atomic<uint64_t> refused_{0};
+  std::atomic<int64_t> last_reconstruct_ns_{0};
+  std::atomic<int64_t> max_reconstruct_ns_{0};
+  std::atomic<uint64_t> last_recon_vertices_{0};
 };
 
 }  // namespace hd::station

@@ -105,7 +105,8 @@ void TextureExtractor::prepare(const render::SyntheticScene& scene) {
 }
 
 bool TextureExtractor::matches(const render::SyntheticScene& scene) const {
-  if (scene.meshes.size() != maps_.size()) return false;
+  // Meshes after those prepare() saw (the reconstructed ones) occlude but are not textured.
+  if (scene.meshes.size() < maps_.size()) return false;
   for (std::size_t m = 0; m < maps_.size(); ++m) {
     const render::TexturedMesh& mesh = scene.meshes[m];
     const MeshMap& map = maps_[m];

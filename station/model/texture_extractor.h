@@ -66,7 +66,9 @@ class TextureExtractor {
   void prepare(const render::SyntheticScene& scene);
 
   /// Textures `scene` (the same meshes and textures prepare() saw) from `views`. Returns false
-  /// without touching anything when the scene's shape no longer matches prepare().
+  /// without touching anything when the scene's shape no longer matches prepare(). Meshes after
+  /// the ones prepare() saw (the model updater's reconstructed meshes) take part in the
+  /// occlusion test only: their texture is their own camera's frame.
   bool extract(render::SyntheticScene& scene, std::span<const ExtractionView> views);
 
   const ExtractionStats& last_stats() const { return stats_; }

@@ -68,8 +68,19 @@ TEST(SceneFile, DefaultSceneRoundTrip) {
   EXPECT_DOUBLE_EQ(s.objects[1].place_s, 10.0);
   EXPECT_EQ(s.objects[0].keyframes.size(), 9u);
   EXPECT_DOUBLE_EQ(s.objects[0].keyframes[4].yaw_deg, 30.0);
-  ASSERT_EQ(s.cameras.size(), 2u);
+  ASSERT_EQ(s.cameras.size(), 3u);
   EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.fx, 420.0);
+  // cam0r: cam0's stereo twin, 0.12 m along cam0's own x axis, same orientation.
+  EXPECT_EQ(s.cameras[2].name, "cam0r");
+  EXPECT_NEAR((s.cameras[2].T_world_cam.t - s.cameras[0].T_world_cam.t -
+               s.cameras[0].T_world_cam.R * Eigen::Vector3d(0.12, 0, 0))
+                  .norm(),
+              0.0, 1e-12);
+  EXPECT_NEAR((s.cameras[2].T_world_cam.R - s.cameras[0].T_world_cam.R).norm(), 0.0, 1e-12);
+  ASSERT_EQ(s.stereo.size(), 1u);
+  EXPECT_EQ(s.stereo[0].left, "cam0");
+  EXPECT_EQ(s.stereo[0].right, "cam0r");
+  EXPECT_EQ(s.model.moved_objects, MovedObjects::kReconstructed);
   EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.distortion[0], -0.12);
   EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.distortion[1], 0.03);
   EXPECT_EQ(s.cameras[0].intrinsics.distortion_count, 5);
@@ -146,6 +157,12 @@ TEST(SceneFile, BrokenFilesNameLineAndField) {
       {"workspace min above max", replace_line(kMinimal, 4, "  max: [1, -2, 3]\n"), 4,
        "workspace.max", ">= min"},
       {"loop not a bool", kMinimal + "loop: sometimes\n", 13, "loop", "expected true or false"},
+      {"stereo pair names an unknown camera", kMinimal + "stereo:\n  - {left: c0, right: c9}\n", 14,
+       "stereo[0].right", "no camera named 'c9'"},
+      {"stereo pair of one camera", kMinimal + "stereo:\n  - {left: c0, right: c0}\n", 14,
+       "stereo[0].right", "two different cameras"},
+      {"moved objects misspelt", kMinimal + "model: {moved_objects: groundtruth}\n", 13,
+       "model.moved_objects", "ground-truth"},
   };
   for (const Broken& c : cases) {
     SCOPED_TRACE(c.what);
@@ -161,6 +178,36 @@ TEST(SceneFile, BrokenFilesNameLineAndField) {
                 0u)
           << e.what();
     }
+  }
+}
+
+TEST(SceneFile, StereoPairsAndMovedObjects) {
+  const std::string two = replace_line(kMinimal, 10,
+                                       "  - name: c1\n    d_m: 1.5\n    intrinsics: {fx: 100, fy: "
+                                       "100, width: 64, height: 48}\n    pose: {position: [0.1, "
+                                       "0, 0]}\nhead:\n");
+  const Scene plain = parse_scene(two, "s.yaml");
+  EXPECT_TRUE(plain.stereo.empty());
+  EXPECT_EQ(plain.model.moved_objects, MovedObjects::kReconstructed);  // the default
+  const Scene s = parse_scene(two +
+                                  "stereo:\n  - {left: c1, right: c0, min_disparity_px: 4, "
+                                  "num_disparities_px: 32, matcher: bm, every_updates: 2}\n"
+                                  "model: {moved_objects: ground-truth}\n",
+                              "s.yaml");
+  ASSERT_EQ(s.stereo.size(), 1u);
+  EXPECT_EQ(s.stereo[0].left, "c1");
+  EXPECT_EQ(s.stereo[0].right, "c0");
+  EXPECT_EQ(s.stereo[0].min_disparity_px, 4);
+  EXPECT_EQ(s.stereo[0].num_disparities_px, 32);
+  EXPECT_EQ(s.stereo[0].matcher, "bm");
+  EXPECT_EQ(s.stereo[0].every_updates, 2);
+  EXPECT_EQ(s.model.moved_objects, MovedObjects::kGroundTruth);
+  try {
+    parse_scene(two + "stereo:\n  - {left: c1, right: c0, matcher: sgm}\n", "s.yaml");
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.field(), "stereo[0].matcher") << e.what();
+    EXPECT_NE(e.why().find("sgbm-scaled"), std::string::npos) << e.what();
   }
 }
 

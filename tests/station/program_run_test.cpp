@@ -190,7 +190,7 @@ TEST_F(StationRunTest, DefaultSceneWritesEveryOutputAndTheVideoReadsBack) {
   EXPECT_NE(r.out.find("camera   ok      sim:cam0"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("tracker  ok      sim:head"), std::string::npos) << r.out;
 
-  check_frames_csv(out / "frames.csv", 60, {"sim:cam0", "sim:cam1"});
+  check_frames_csv(out / "frames.csv", 60, {"sim:cam0", "sim:cam1", "sim:cam0r"});
   // The run waits for the head: even frame 0 is drawn from camera 0's place, where the default
   // scene's head starts (0, -0.3, 0), not from the tracker origin.
   const CsvTable frames = read_csv(out / "frames.csv");
