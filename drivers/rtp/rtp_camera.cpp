@@ -237,6 +237,7 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
   packets_.fetch_add(1, std::memory_order_relaxed);
   GstMapInfo map;
   if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_DROP;
+  bytes_.fetch_add(map.size, std::memory_order_relaxed);
   RtpPacketView view;
   const RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
   gst_buffer_unmap(buffer, &map);
@@ -409,6 +410,8 @@ void RtpCamera::on_sample(GstElement* sink) {
   gst_sample_unref(sample);
   mailbox_->publish();
   frames_published_.fetch_add(1, std::memory_order_relaxed);
+  timings_.push(
+      {sequence_, stamped ? capture_ns : arrival_ns, arrival_ns, monotonic_now_ns(), stamped});
   last_frame_ns_.store(now, std::memory_order_relaxed);
   state_.store(SourceState::kStreaming, std::memory_order_release);
 }
@@ -429,6 +432,7 @@ uint64_t RtpCamera::dropped_frames() const {
 RtpCameraStats RtpCamera::stats() const {
   RtpCameraStats s;
   s.packets = packets_.load(std::memory_order_relaxed);
+  s.bytes = bytes_.load(std::memory_order_relaxed);
   for (std::size_t i = 0; i < s.malformed.size(); ++i) {
     s.malformed[i] = malformed_[i].load(std::memory_order_relaxed);
     s.malformed_total += s.malformed[i];

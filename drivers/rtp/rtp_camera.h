@@ -16,12 +16,23 @@
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
+#include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
 
+/// When one frame crossed each stage, for the link's latency (CLOCK_MONOTONIC ns).
+struct RtpFrameTiming {
+  uint64_t sequence = 0;
+  int64_t capture_ns = 0;    ///< the sender's capture time, mapped (or the arrival if unstamped)
+  int64_t arrival_ns = 0;    ///< its packets left the jitter buffer
+  int64_t published_ns = 0;  ///< decoded, converted and in the mailbox
+  bool stamped = false;
+};
+
 /// Counters since start(); read from any thread.
 struct RtpCameraStats {
-  uint64_t packets = 0;  ///< RTP packets that reached the camera (after netsim, if any)
+  uint64_t packets = 0;  ///< UDP datagrams that reached the RTP port
+  uint64_t bytes = 0;    ///< their UDP payload bytes
   /// Packets refused by parse_rtp_packet (dropped before GStreamer sees them), by reason.
   std::array<uint64_t, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
   uint64_t malformed_total = 0;
@@ -95,6 +106,8 @@ class RtpCamera final : public CameraSource {
   /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
   /// link. False when there is no netsim in the path.
   bool set_netsim_drop_probability(double p);
+  /// Oldest unread frame timing (bounded queue; overflow is counted by the ring and dropped).
+  bool pop_timing(RtpFrameTiming& out) { return timings_.pop(out); }
   const RtpReceiveConfig& config() const { return config_; }
   /// The pipeline as built (for the start report and docs).
   std::string pipeline_description() const;
@@ -127,7 +140,8 @@ class RtpCamera final : public CameraSource {
   int sized_slots_ = 0;
   bool format_lost_ = false;
 
-  std::atomic<uint64_t> packets_{0};
+  std::atomic<uint64_t> packets_{0}, bytes_{0};
+  SpscRing<RtpFrameTiming, 1024> timings_;
   std::array<std::atomic<uint64_t>, static_cast<std::size_t>(RtpPacketError::kCount)> malformed_{};
   std::atomic<uint64_t> frames_published_{0};
   std::atomic<uint64_t> wrong_format_{0};
