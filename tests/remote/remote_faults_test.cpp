@@ -124,5 +124,37 @@ TEST(RemoteFaults, AfterAThreeSecondCutVideoIsBackWithinOneSecond) {
   EXPECT_EQ(cam.state(), SourceState::kStreaming);
 }
 
+TEST(RemoteFaults, ASenderKilledAndRestartedIsShownAgainAndNothingOldIsShown) {
+  const uint16_t port = testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  RtpReceiveConfig c;
+  c.listen = {"127.0.0.1", port};
+  RtpCamera cam(c);
+  cam.negotiate({640, 480, {}, 0.0});
+  cam.start();
+  Watch w;
+  {
+    testing::ChildProcess remote(remote_to(port));
+    ASSERT_TRUE(wait_for([&] {
+      w.poll(cam);
+      return w.shown >= 10;
+    }));
+  }  // killed (SIGKILL): no BYE
+  ASSERT_TRUE(wait_for([&] { return cam.state() == SourceState::kStalled; }));
+  w.poll(cam);
+  const uint64_t before = w.shown;
+  const int64_t restarted_ns = monotonic_now_ns();
+  testing::ChildProcess again(remote_to(port));  // a new process: a new SSRC, new RTP times
+  ASSERT_TRUE(wait_for([&] {
+    w.poll(cam);
+    return w.shown > before && w.newest_ns > restarted_ns;
+  })) << cam.stats().bus_errors
+      << " bus errors, last: " << cam.stats().last_error;
+  std::printf("sender restarted: video again %.3f s later (%llu pipeline rebuilds)\n",
+              (monotonic_now_ns() - restarted_ns) * 1e-9,
+              static_cast<unsigned long long>(cam.stats().restarts));
+  EXPECT_EQ(w.older_than_shown, 0u);
+}
+
 }  // namespace
 }  // namespace hd::drivers
