@@ -33,6 +33,9 @@ struct RtpFrameTiming {
 struct RtpCameraStats {
   uint64_t packets = 0;  ///< UDP datagrams that reached the RTP port
   uint64_t bytes = 0;    ///< their UDP payload bytes
+  /// Times the RTCP feedback destination was set (the first sender's RTCP address, then each
+  /// new one).
+  uint64_t feedback_targets = 0;
   /// Packets refused by parse_rtp_packet (dropped before GStreamer sees them), by reason.
   std::array<uint64_t, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
   uint64_t malformed_total = 0;
@@ -103,6 +106,14 @@ class RtpCamera final : public CameraSource {
   Mailbox<Frame>& frames() override { return *mailbox_; }
 
   RtpCameraStats stats() const;
+  /// RTCP feedback this station sent to the sender so far, from rtpbin's session statistics:
+  /// picture loss indications (key-frame requests) and NACKs. Not for the render thread.
+  struct Feedback {
+    uint64_t pli_sent = 0;
+    uint64_t nack_sent = 0;
+    uint64_t rtcp_received_from_sender = 0;  ///< sender reports seen (have-sr)
+  };
+  Feedback feedback() const;
   /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
   /// link. False when there is no netsim in the path.
   bool set_netsim_drop_probability(double p);
@@ -122,6 +133,7 @@ class RtpCamera final : public CameraSource {
   static GstPadProbeReturn depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
   static GstFlowReturn new_sample_cb(GstElement* sink, gpointer self);
   static GstPadProbeReturn rtp_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
+  static GstPadProbeReturn rtcp_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self);
   static GstCaps* request_key_cb(GstElement* srtpdec, guint ssrc, gpointer self);
 
   RtpReceiveConfig config_;
@@ -140,7 +152,8 @@ class RtpCamera final : public CameraSource {
   int sized_slots_ = 0;
   bool format_lost_ = false;
 
-  std::atomic<uint64_t> packets_{0}, bytes_{0};
+  std::atomic<uint64_t> packets_{0}, bytes_{0}, feedback_targets_{0};
+  std::string feedback_to_;  // RTCP source thread: where feedback goes now
   SpscRing<RtpFrameTiming, 1024> timings_;
   std::array<std::atomic<uint64_t>, static_cast<std::size_t>(RtpPacketError::kCount)> malformed_{};
   std::atomic<uint64_t> frames_published_{0};
