@@ -1,6 +1,8 @@
 #include "drivers/rtp/rtp_camera.h"
 
+#include <gio/gio.h>
 #include <gst/app/gstappsink.h>
+#include <gst/net/gstnetaddressmeta.h>
 #include <gst/video/video.h>
 
 #include <time.h>
@@ -91,6 +93,7 @@ FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
 }
 
 void RtpCamera::build() {
+  feedback_to_.clear();  // a new pipeline's multiudpsink has no destination yet
   GError* error = nullptr;
   const std::string description = receive_pipeline_description(config_);
   GstElement* p = gst_parse_launch(description.c_str(), &error);
@@ -133,6 +136,13 @@ void RtpCamera::build() {
   gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::depay_probe_cb, this, nullptr);
   gst_object_unref(pad);
   gst_object_unref(depay);
+
+  // RTCP feedback (receiver reports, NACK, PLI) goes back to where the sender's RTCP comes from.
+  GstElement* rtcp_src = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtcpSource);
+  pad = gst_element_get_static_pad(rtcp_src, "src");
+  gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::rtcp_probe_cb, this, nullptr);
+  gst_object_unref(pad);
+  gst_object_unref(rtcp_src);
 
   GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kAppSink);
   GstAppSinkCallbacks callbacks{};
@@ -237,6 +247,7 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
   packets_.fetch_add(1, std::memory_order_relaxed);
   GstMapInfo map;
   if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_DROP;
+  bytes_.fetch_add(map.size, std::memory_order_relaxed);
   RtpPacketView view;
   const RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
   gst_buffer_unmap(buffer, &map);
@@ -245,6 +256,26 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
     return GST_PAD_PROBE_DROP;
   }
   well_formed_.fetch_add(1, std::memory_order_relaxed);
+  return GST_PAD_PROBE_OK;
+}
+
+GstPadProbeReturn RtpCamera::rtcp_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self) {
+  auto* me = static_cast<RtpCamera*>(self);
+  GstNetAddressMeta* meta = gst_buffer_get_net_address_meta(GST_PAD_PROBE_INFO_BUFFER(info));
+  if (meta == nullptr || !G_IS_INET_SOCKET_ADDRESS(meta->addr)) return GST_PAD_PROBE_OK;
+  GInetSocketAddress* a = G_INET_SOCKET_ADDRESS(meta->addr);
+  gchar* host = g_inet_address_to_string(g_inet_socket_address_get_address(a));
+  const int port = g_inet_socket_address_get_port(a);
+  const std::string where = std::string(host) + ":" + std::to_string(port);
+  if (where != me->feedback_to_) {  // a new sender (or the first): feedback goes there now
+    me->feedback_to_ = where;
+    GstElement* sink = gst_bin_get_by_name(GST_BIN(me->pipeline_), rtp_elements::kRtcpSink);
+    g_signal_emit_by_name(sink, "clear");
+    g_signal_emit_by_name(sink, "add", host, port);
+    gst_object_unref(sink);
+    me->feedback_targets_.fetch_add(1, std::memory_order_relaxed);
+  }
+  g_free(host);
   return GST_PAD_PROBE_OK;
 }
 
@@ -409,8 +440,46 @@ void RtpCamera::on_sample(GstElement* sink) {
   gst_sample_unref(sample);
   mailbox_->publish();
   frames_published_.fetch_add(1, std::memory_order_relaxed);
+  timings_.push(
+      {sequence_, stamped ? capture_ns : arrival_ns, arrival_ns, monotonic_now_ns(), stamped});
   last_frame_ns_.store(now, std::memory_order_relaxed);
   state_.store(SourceState::kStreaming, std::memory_order_release);
+}
+
+RtpCamera::Feedback RtpCamera::feedback() const {
+  Feedback f;
+  if (pipeline_ == nullptr) return f;
+  GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpBin);
+  GObject* session = nullptr;
+  g_signal_emit_by_name(rtpbin, "get-internal-session", 0u, &session);
+  gst_object_unref(rtpbin);
+  if (session == nullptr) return f;
+  GstStructure* stats = nullptr;
+  g_object_get(session, "stats", &stats, nullptr);
+  g_object_unref(session);
+  if (stats == nullptr) return f;
+  const GValue* sources = gst_structure_get_value(stats, "source-stats");
+  // rtpsession's "source-stats" is a GValueArray (deprecated in GLib, still what 1.22 returns).
+  G_GNUC_BEGIN_IGNORE_DEPRECATIONS
+  if (sources != nullptr && G_VALUE_HOLDS(sources, g_value_array_get_type())) {
+    GValueArray* array = static_cast<GValueArray*>(g_value_get_boxed(sources));
+    for (guint i = 0; array != nullptr && i < array->n_values; ++i) {
+      const GstStructure* src = gst_value_get_structure(g_value_array_get_nth(array, i));
+      gboolean internal = TRUE, have_sr = FALSE;
+      gst_structure_get_boolean(src, "internal", &internal);
+      if (internal) continue;  // our own source
+      guint pli = 0, nack = 0;
+      gst_structure_get_uint(src, "sent-pli-count", &pli);
+      gst_structure_get_uint(src, "sent-nack-count", &nack);
+      gst_structure_get_boolean(src, "have-sr", &have_sr);
+      f.pli_sent += pli;
+      f.nack_sent += nack;
+      f.rtcp_received_from_sender += have_sr ? 1 : 0;
+    }
+  }
+  G_GNUC_END_IGNORE_DEPRECATIONS
+  gst_structure_free(stats);
+  return f;
 }
 
 bool RtpCamera::set_netsim_drop_probability(double p) {
@@ -429,6 +498,8 @@ uint64_t RtpCamera::dropped_frames() const {
 RtpCameraStats RtpCamera::stats() const {
   RtpCameraStats s;
   s.packets = packets_.load(std::memory_order_relaxed);
+  s.bytes = bytes_.load(std::memory_order_relaxed);
+  s.feedback_targets = feedback_targets_.load(std::memory_order_relaxed);
   for (std::size_t i = 0; i < s.malformed.size(); ++i) {
     s.malformed[i] = malformed_[i].load(std::memory_order_relaxed);
     s.malformed_total += s.malformed[i];

@@ -16,12 +16,26 @@
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
+#include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
 
+/// When one frame crossed each stage, for the link's latency (CLOCK_MONOTONIC ns).
+struct RtpFrameTiming {
+  uint64_t sequence = 0;
+  int64_t capture_ns = 0;    ///< the sender's capture time, mapped (or the arrival if unstamped)
+  int64_t arrival_ns = 0;    ///< its packets left the jitter buffer
+  int64_t published_ns = 0;  ///< decoded, converted and in the mailbox
+  bool stamped = false;
+};
+
 /// Counters since start(); read from any thread.
 struct RtpCameraStats {
-  uint64_t packets = 0;  ///< RTP packets that reached the camera (after netsim, if any)
+  uint64_t packets = 0;  ///< UDP datagrams that reached the RTP port
+  uint64_t bytes = 0;    ///< their UDP payload bytes
+  /// Times the RTCP feedback destination was set (the first sender's RTCP address, then each
+  /// new one).
+  uint64_t feedback_targets = 0;
   /// Packets refused by parse_rtp_packet (dropped before GStreamer sees them), by reason.
   std::array<uint64_t, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
   uint64_t malformed_total = 0;
@@ -92,9 +106,19 @@ class RtpCamera final : public CameraSource {
   Mailbox<Frame>& frames() override { return *mailbox_; }
 
   RtpCameraStats stats() const;
+  /// RTCP feedback this station sent to the sender so far, from rtpbin's session statistics:
+  /// picture loss indications (key-frame requests) and NACKs. Not for the render thread.
+  struct Feedback {
+    uint64_t pli_sent = 0;
+    uint64_t nack_sent = 0;
+    uint64_t rtcp_received_from_sender = 0;  ///< sender reports seen (have-sr)
+  };
+  Feedback feedback() const;
   /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
   /// link. False when there is no netsim in the path.
   bool set_netsim_drop_probability(double p);
+  /// Oldest unread frame timing (bounded queue; overflow is counted by the ring and dropped).
+  bool pop_timing(RtpFrameTiming& out) { return timings_.pop(out); }
   const RtpReceiveConfig& config() const { return config_; }
   /// The pipeline as built (for the start report and docs).
   std::string pipeline_description() const;
@@ -109,6 +133,7 @@ class RtpCamera final : public CameraSource {
   static GstPadProbeReturn depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
   static GstFlowReturn new_sample_cb(GstElement* sink, gpointer self);
   static GstPadProbeReturn rtp_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
+  static GstPadProbeReturn rtcp_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self);
   static GstCaps* request_key_cb(GstElement* srtpdec, guint ssrc, gpointer self);
 
   RtpReceiveConfig config_;
@@ -127,7 +152,9 @@ class RtpCamera final : public CameraSource {
   int sized_slots_ = 0;
   bool format_lost_ = false;
 
-  std::atomic<uint64_t> packets_{0};
+  std::atomic<uint64_t> packets_{0}, bytes_{0}, feedback_targets_{0};
+  std::string feedback_to_;  // RTCP source thread: where feedback goes now
+  SpscRing<RtpFrameTiming, 1024> timings_;
   std::array<std::atomic<uint64_t>, static_cast<std::size_t>(RtpPacketError::kCount)> malformed_{};
   std::atomic<uint64_t> frames_published_{0};
   std::atomic<uint64_t> wrong_format_{0};

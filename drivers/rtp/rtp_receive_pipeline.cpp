@@ -19,7 +19,9 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
       std::string("udpsrc name=") + kRtpSource + " address=" + host + " port=" + port +
       " reuse=false" + " caps=\"application/x-" + (c.srtp_key ? "srtp" : "rtp") +
       ",media=video,clock-rate=90000,encoding-name=H264,payload=" + std::to_string(c.payload_type) +
-      "\" ";
+      // The sender supports RTCP feedback: PLI on loss (the depayloader's key-frame request) and
+      // NACK.
+      ",rtcp-fb-nack-pli=(boolean)true,rtcp-fb-nack=(boolean)true\" ";
   if (c.srtp_key)
     d += std::string("! ") + kSrtpDecoder + ".rtp_sink srtpdec name=" + kSrtpDecoder + " " +
          kSrtpDecoder + ".rtp_src ";
@@ -32,7 +34,11 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
   }
   d += std::string("! ") + kRtpBin + ".recv_rtp_sink_0 ";
   d += std::string("udpsrc name=") + kRtcpSource + " address=" + host + " port=" + rtcp_port +
-       " reuse=false" + " caps=application/x-rtcp ! " + kRtpBin + ".recv_rtcp_sink_0 ";
+       " reuse=false" +
+       (c.srtp_key ? std::string(" caps=application/x-srtcp ! ") + kSrtpDecoder + ".rtcp_sink " +
+                         kSrtpDecoder + ".rtcp_src ! "
+                   : std::string(" caps=application/x-rtcp ! ")) +
+       kRtpBin + ".recv_rtcp_sink_0 ";
   d += std::string(kRtpBin) + ".send_rtcp_src_0 ! multiudpsink name=" + kRtcpSink +
        " sync=false async=false ";
   d += std::string(kRtpBin) + ". ! rtph264depay name=" + kDepayloader +

@@ -42,7 +42,12 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
        "udpsink host=" + c.host + " port=" + std::to_string(c.port) + " sync=false async=false ";
   d += std::string(kRtpBin) + ".send_rtcp_src_0 ! " +
        (c.srtp_key ? enc + ".rtcp_sink_0 " + enc + ".rtcp_src_0 ! " : std::string()) +
-       "udpsink host=" + c.host + " port=" + std::to_string(c.port + 1) + " sync=false async=false";
+       "udpsink name=" + kRtcpOut + " host=" + c.host + " port=" + std::to_string(c.port + 1) +
+       " sync=false async=false ";
+  // The station's RTCP (receiver reports, NACK, PLI) comes back to the socket RTCP leaves from:
+  // RtpSender hands this udpsrc's socket to the RTCP udpsink.
+  d += std::string("udpsrc name=") + kRtcpIn + " port=0 caps=application/x-rtcp ! " + kRtpBin +
+       ".recv_rtcp_sink_0";
   return d;
 }
 

@@ -14,6 +14,8 @@ inline constexpr const char* kEncoder = "enc";
 inline constexpr const char* kPayloader = "pay";
 inline constexpr const char* kRtpBin = "rtpbin";
 inline constexpr const char* kSrtpEncoder = "srtpenc";
+inline constexpr const char* kRtcpOut = "rtcp_out";
+inline constexpr const char* kRtcpIn = "rtcp_in";
 }  // namespace send_elements
 
 /// appsrc (RGBA, live, the newest 2 frames) → videoconvert → I420 → x264enc (zerolatency,

@@ -1,5 +1,6 @@
 #include "remote/sender/rtp_sender.h"
 
+#include <gio/gio.h>
 #include <gst/app/gstappsrc.h>
 #include <gst/rtp/rtp.h>
 #include <time.h>
@@ -66,6 +67,19 @@ void RtpSender::start() {
       g_object_set(enc, "key", key, nullptr);
       gst_buffer_unref(key);
       gst_object_unref(enc);
+    }
+    {  // one socket for RTCP out and in (the station answers to where our RTCP came from)
+      GstElement* in = by_name(pipeline_, send_elements::kRtcpIn);
+      GstElement* out = by_name(pipeline_, send_elements::kRtcpOut);
+      gst_element_set_state(in, GST_STATE_READY);
+      GSocket* socket = nullptr;
+      g_object_get(in, "used-socket", &socket, nullptr);
+      if (socket != nullptr) {
+        g_object_set(out, "socket", socket, "close-socket", FALSE, nullptr);
+        g_object_unref(socket);
+      }
+      gst_object_unref(in);
+      gst_object_unref(out);
     }
     GstElement* pay = by_name(pipeline_, send_elements::kPayloader);
     GstElement* ntp = gst_element_factory_make("rtphdrextntp64", nullptr);

@@ -47,6 +47,14 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  ", rejected %" PRIu64 "\n",
                  s.camera_names[i].c_str(), s.camera_frames_shown[i], s.camera_frames_lost[i],
                  s.camera_frames_rejected[i]);
+  for (const RunSummary::NetworkCamera& n : s.network_cameras)
+    std::fprintf(out,
+                 "  network camera %-12s %" PRIu64 " packets (%" PRIu64
+                 " malformed), security %s: %" PRIu64 " rejected; frames with capture time %" PRIu64
+                 ", with arrival time %" PRIu64 "; PLI %" PRIu64 ", NACK %" PRIu64 "%s%s\n",
+                 n.camera.c_str(), n.packets, n.malformed, n.security.c_str(), n.srtp_rejected,
+                 n.frames_stamped, n.frames_unstamped, n.pli_sent, n.nack_sent,
+                 n.last_error.empty() ? "" : "; last error: ", n.last_error.c_str());
   if (!s.camera_events.empty())
     std::fprintf(out, "  camera format events: %zu\n", s.camera_events.size());
   for (const CameraEventRecord& e : s.camera_events)
@@ -104,6 +112,22 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                       {"expected", e.expected},
                       {"seen", e.seen}});
   j["camera_events"] = events;
+  nlohmann::json network = nlohmann::json::array();
+  for (const RunSummary::NetworkCamera& n : s.network_cameras)
+    network.push_back({{"camera", n.camera},
+                       {"security", n.security},
+                       {"packets", n.packets},
+                       {"bytes", n.bytes},
+                       {"malformed_packets", n.malformed},
+                       {"srtp_rejected_packets", n.srtp_rejected},
+                       {"frames_with_capture_time", n.frames_stamped},
+                       {"frames_with_arrival_time", n.frames_unstamped},
+                       {"frames_not_newer_dropped", n.not_newer},
+                       {"bus_errors", n.bus_errors},
+                       {"pli_sent", n.pli_sent},
+                       {"nack_sent", n.nack_sent},
+                       {"last_error", n.last_error}});
+  j["network_cameras"] = network;
   j["head"] = {{"accepted", s.pose_accepted},
                {"rejected", s.pose_rejected},
                {"recentres", s.recentres},

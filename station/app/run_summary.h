@@ -28,6 +28,15 @@ struct RunSummary {
   std::vector<uint64_t> camera_frames_rejected;  ///< by the pipeline (wrong size / format)
   std::vector<uint64_t> camera_frames_lost;      ///< by the device: sequence gaps, overruns
   std::vector<CameraEventRecord> camera_events;  ///< format lost / restored, in the order seen
+  /// What each network camera (rtp://) received: drivers/rtp/rtp_camera.h's counters.
+  struct NetworkCamera {
+    std::string camera;    ///< its name
+    std::string security;  ///< "SRTP AES-128-GCM (key file F)" or "none"
+    uint64_t packets = 0, bytes = 0, malformed = 0, srtp_rejected = 0, frames_stamped = 0,
+             frames_unstamped = 0, not_newer = 0, bus_errors = 0, pli_sent = 0, nack_sent = 0;
+    std::string last_error;
+  };
+  std::vector<NetworkCamera> network_cameras;
   uint64_t pose_accepted = 0, pose_rejected = 0;
   uint64_t recentres = 0, tracker_resets = 0;
   uint64_t model_updates = 0;

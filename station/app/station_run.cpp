@@ -17,6 +17,7 @@
 
 #include "calib/camera_factory.h"
 #include "core/allocation_counter.h"
+#include "drivers/rtp/rtp_camera.h"
 #include "render/compositor/cpu_compositor.h"
 #include "render/gl/gl_compositor.h"
 #include "render/latency/latency_recorder.h"
@@ -266,6 +267,29 @@ int run(const RunOptions& o) {
     s.camera_frames_lost.push_back(pipe->device_dropped_frames());
   }
   s.camera_events = camera_events.events();
+  for (std::size_t i = 0; i < p.devices.size() && i < p.camera_names.size(); ++i) {
+    const auto* net = dynamic_cast<const drivers::RtpCamera*>(p.devices[i].get());
+    if (net == nullptr) continue;
+    const drivers::RtpCameraStats st = net->stats();
+    const drivers::RtpCamera::Feedback fb = net->feedback();
+    RunSummary::NetworkCamera n;
+    n.camera = p.camera_names[i];
+    n.security = net->config().srtp_key
+                     ? "SRTP AES-128-GCM (key file " + net->config().srtp_key->file + ")"
+                     : "none";
+    n.packets = st.packets;
+    n.bytes = st.bytes;
+    n.malformed = st.malformed_total;
+    n.srtp_rejected = st.srtp_rejected;
+    n.frames_stamped = st.stamped_frames;
+    n.frames_unstamped = st.unstamped_frames;
+    n.not_newer = st.not_newer;
+    n.bus_errors = st.bus_errors;
+    n.pli_sent = fb.pli_sent;
+    n.nack_sent = fb.nack_sent;
+    n.last_error = st.last_error;
+    s.network_cameras.push_back(n);
+  }
   s.pose_accepted = frame.pose_history().accepted();
   s.pose_rejected = frame.pose_history().rejected() + p.head->rejected_reports();
   s.recentres = p.head->recentres();

@@ -81,8 +81,10 @@ TEST(RemoteFaults, LossAndJitterTableNeverPresentsOldVideoAsNew) {
                   static_cast<unsigned long long>(w.shown),
                   std::max(0.0, expected - double(w.shown)),
                   static_cast<unsigned long long>(w.older_than_shown));
-      EXPECT_GT(w.shown, 1u) << loss << " " << jitter_ms;
+      // How many frames a cell shows depends on the machine's load as much as on the faults
+      // (the table reports it); that video is shown at all is asserted by the wait above.
       EXPECT_EQ(w.older_than_shown, 0u) << loss << " " << jitter_ms;
+      EXPECT_EQ(cam.stats().capture_after_arrival, 0u) << loss << " " << jitter_ms;
     }
 }
 
@@ -117,11 +119,48 @@ TEST(RemoteFaults, AfterAThreeSecondCutVideoIsBackWithinOneSecond) {
     return w.shown > before && w.newest_ns > back_ns;
   }));
   const double to_video_s = (monotonic_now_ns() - back_ns) * 1e-9;
-  std::printf("3 s cut: video again %.3f s after the link's return (key frame every 0.5 s)\n",
-              to_video_s);
+  const RtpCamera::Feedback fb = cam.feedback();
+  std::printf(
+      "3 s cut: video again %.3f s after the link's return (key frame every 0.5 s; %llu PLI, "
+      "%llu NACK sent)\n",
+      to_video_s, static_cast<unsigned long long>(fb.pli_sent),
+      static_cast<unsigned long long>(fb.nack_sent));
   EXPECT_LT(to_video_s, 1.0);
+  EXPECT_GE(fb.pli_sent, 1u);  // the loss made the station ask for a key frame (RTCP PLI)
   EXPECT_EQ(w.older_than_shown, 0u);
   EXPECT_EQ(cam.state(), SourceState::kStreaming);
+}
+
+TEST(RemoteFaults, ASenderKilledAndRestartedIsShownAgainAndNothingOldIsShown) {
+  const uint16_t port = testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  RtpReceiveConfig c;
+  c.listen = {"127.0.0.1", port};
+  RtpCamera cam(c);
+  cam.negotiate({640, 480, {}, 0.0});
+  cam.start();
+  Watch w;
+  {
+    testing::ChildProcess remote(remote_to(port));
+    ASSERT_TRUE(wait_for([&] {
+      w.poll(cam);
+      return w.shown >= 10;
+    }));
+  }  // killed (SIGKILL): no BYE
+  ASSERT_TRUE(wait_for([&] { return cam.state() == SourceState::kStalled; }));
+  w.poll(cam);
+  const uint64_t before = w.shown;
+  const int64_t restarted_ns = monotonic_now_ns();
+  testing::ChildProcess again(remote_to(port));  // a new process: a new SSRC, new RTP times
+  ASSERT_TRUE(wait_for([&] {
+    w.poll(cam);
+    return w.shown > before && w.newest_ns > restarted_ns;
+  })) << cam.stats().bus_errors
+      << " bus errors, last: " << cam.stats().last_error;
+  std::printf("sender restarted: video again %.3f s later (%llu pipeline rebuilds)\n",
+              (monotonic_now_ns() - restarted_ns) * 1e-9,
+              static_cast<unsigned long long>(cam.stats().restarts));
+  EXPECT_EQ(w.older_than_shown, 0u);
 }
 
 }  // namespace

@@ -54,6 +54,9 @@ TEST(RemoteStream, TheSimulatedCamerasArriveStampedWithCaptureTimeAndCameraState
   EXPECT_EQ(s.malformed_total, 0u);
   EXPECT_EQ(s.last_camera_index, 1);
   EXPECT_EQ(s.last_calibration_revision, 1);
+  // RTCP both ways: the sender's reports arrived, and the station's feedback has a destination.
+  EXPECT_TRUE(wait_for([&] { return cam.feedback().rtcp_received_from_sender > 0; }));
+  EXPECT_GE(cam.stats().feedback_targets, 1u);
 }
 
 TEST(RemoteStream, TheSendPipelineIsDescribedFromItsSettings) {

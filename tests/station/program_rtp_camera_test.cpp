@@ -147,6 +147,13 @@ TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
   EXPECT_GT(s["cameras"][0]["frames_shown"].get<uint64_t>(), 0u) << s.dump(1);
   EXPECT_EQ(s["cameras"][0]["frames_rejected"].get<uint64_t>(), 0u);
   EXPECT_GT(s["variant_frames"]["video"].get<uint64_t>(), 0u) << s.dump(1);
+  ASSERT_EQ(s["network_cameras"].size(), 1u) << s.dump(1);
+  const nlohmann::json& n = s["network_cameras"][0];
+  EXPECT_EQ(n["security"], "none");
+  EXPECT_GT(n["packets"].get<uint64_t>(), 0u);
+  EXPECT_EQ(n["malformed_packets"].get<uint64_t>(), 0u);
+  EXPECT_EQ(n["frames_with_capture_time"].get<uint64_t>(), 0u);  // a plain sender stamps none
+  EXPECT_GT(n["frames_with_arrival_time"].get<uint64_t>(), 0u);
   if (!::testing::Test::HasFailure()) fs::remove_all(dir);
 }
 
@@ -172,6 +179,12 @@ TEST(StationRtpCamera, WithAKeyTheUnencryptedSenderIsNeverShownAndTheReportNames
   const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
   EXPECT_EQ(s["cameras"][0]["frames_shown"].get<uint64_t>(), 0u) << s.dump(1);
   EXPECT_EQ(s["variant_frames"]["video"].get<uint64_t>(), 0u) << s.dump(1);
+  // Rejected, counted and named in the summary.
+  ASSERT_EQ(s["network_cameras"].size(), 1u) << s.dump(1);
+  const nlohmann::json& n = s["network_cameras"][0];
+  EXPECT_EQ(n["security"], "SRTP AES-128-GCM (key file " + (dir / "station.key").string() + ")");
+  EXPECT_GT(n["srtp_rejected_packets"].get<uint64_t>(), 0u) << n.dump();
+  EXPECT_NE(station.out().find("rejected"), std::string::npos);
   if (!::testing::Test::HasFailure()) fs::remove_all(dir);
 }
 
