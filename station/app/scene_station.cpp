@@ -117,17 +117,9 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
       p->report.missing("stereo pair", name, "a camera of the pair did not open", true);
       continue;
     }
-    station::ModelStereoPair mp;
-    mp.name = name;
-    mp.left = static_cast<std::size_t>(l - opened_names.begin());
-    mp.right = static_cast<std::size_t>(r - opened_names.begin());
-    mp.every_updates = sp.every_updates;
-    mp.reconstruction.matcher.kind = recon::matcher_kind_from_string(sp.matcher);
-    mp.reconstruction.matcher.min_disparity_px = sp.min_disparity_px;
-    mp.reconstruction.matcher.num_disparities_px = sp.num_disparities_px;
-    mp.reconstruction.measure_row_error = false;  // the rig is the scene's: exact
-    mp.bounds = workspace;
-    mp.use_bounds = true;
+    station::ModelStereoPair mp =
+        model_stereo_pair(sp, static_cast<std::size_t>(l - opened_names.begin()),
+                          static_cast<std::size_t>(r - opened_names.begin()), workspace);
     pairs.push_back(mp);
   }
   if ((staleness || !pairs.empty()) && !p->pipelines.empty()) {
