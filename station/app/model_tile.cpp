@@ -36,7 +36,7 @@ std::string model_tile_label(const ModelSnapshot& snapshot) {
   for (std::size_t m = snapshot.prior_meshes; m < snapshot.scene.meshes.size(); ++m)
     if (!snapshot.scene.meshes[m].triangles.empty())  // an empty one is a placeholder
       vertices += snapshot.scene.meshes[m].positions_m.size();
-  return "model #" + std::to_string(snapshot.update) + ": a-priori + reconstructed (magenta, " +
+  return "model #" + std::to_string(snapshot.update) + ", reconstructed: magenta (" +
          std::to_string(vertices) + " v)";
 }
 
