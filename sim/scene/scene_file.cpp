@@ -386,28 +386,10 @@ Scene read_scene(const YamlFields& root) {
     }
   }
 
-  for (const YamlFields& sp : root.optional_list("stereo")) {
-    SceneStereoPair pair;
-    pair.line = sp.line();
-    for (const char* key : {"left", "right"}) {
-      const std::string name = sp.required_string(key);
-      const bool known = std::any_of(s.cameras.begin(), s.cameras.end(),
-                                     [&](const SceneCamera& c) { return c.name == name; });
-      if (!known) sp.fail(key, "no camera named '" + name + "'");
-      (std::string_view(key) == "left" ? pair.left : pair.right) = name;
-    }
-    if (pair.left == pair.right) sp.fail("right", "a pair needs two different cameras");
-    pair.min_disparity_px =
-        sp.optional_int("min_disparity_px", pair.min_disparity_px, Range::closed(1, 1024));
-    pair.num_disparities_px =
-        sp.optional_int("num_disparities_px", pair.num_disparities_px, Range::closed(16, 1024));
-    const std::vector<std::string> matchers{"sgbm-scaled", "sgbm", "bm"};
-    pair.matcher = matchers[sp.optional_enum("matcher", matchers, 0)];
-    pair.every_updates =
-        sp.optional_int("every_updates", pair.every_updates, Range::closed(1, 1000));
-    sp.finish();
-    s.stereo.push_back(std::move(pair));
-  }
+  std::vector<std::string> camera_names;
+  for (const SceneCamera& c : s.cameras) camera_names.push_back(c.name);
+  for (const YamlFields& sp : root.optional_list("stereo"))
+    s.stereo.push_back(read_stereo_pair(sp, camera_names));
 
   if (const auto m = root.optional_map("model")) {
     const std::size_t k = m->optional_enum("moved_objects", {"reconstructed", "ground-truth"}, 0);
@@ -431,6 +413,29 @@ Scene read_scene(const YamlFields& root) {
 }
 
 }  // namespace
+
+SceneStereoPair read_stereo_pair(const YamlFields& sp,
+                                 const std::vector<std::string>& camera_names) {
+  SceneStereoPair pair;
+  pair.line = sp.line();
+  for (const char* key : {"left", "right"}) {
+    const std::string name = sp.required_string(key);
+    const bool known =
+        std::find(camera_names.begin(), camera_names.end(), name) != camera_names.end();
+    if (!known) sp.fail(key, "no camera named '" + name + "'");
+    (std::string_view(key) == "left" ? pair.left : pair.right) = name;
+  }
+  if (pair.left == pair.right) sp.fail("right", "a pair needs two different cameras");
+  pair.min_disparity_px =
+      sp.optional_int("min_disparity_px", pair.min_disparity_px, Range::closed(1, 1024));
+  pair.num_disparities_px =
+      sp.optional_int("num_disparities_px", pair.num_disparities_px, Range::closed(16, 1024));
+  const std::vector<std::string> matchers{"sgbm-scaled", "sgbm", "bm"};
+  pair.matcher = matchers[sp.optional_enum("matcher", matchers, 0)];
+  pair.every_updates = sp.optional_int("every_updates", pair.every_updates, Range::closed(1, 1000));
+  sp.finish();
+  return pair;
+}
 
 Scene parse_scene(const std::string& text, const std::string& name) {
   return read_scene(YamlFields(parse_yaml(text, name), name));

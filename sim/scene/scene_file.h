@@ -5,6 +5,7 @@
 
 #include "sim/scene/config_error.h"
 #include "sim/scene/scene.h"
+#include "sim/scene/yaml_fields.h"
 
 namespace hd::sim {
 
@@ -16,5 +17,10 @@ Scene load_scene(const std::string& path);
 /// The same from text; `name` stands for the file in messages and relative paths resolve against
 /// its directory.
 Scene parse_scene(const std::string& text, const std::string& name);
+
+/// One `stereo:` item (scene files and station.yaml's `model.stereo`): left and right must be
+/// two different names of `camera_names`. ConfigError naming the field otherwise.
+SceneStereoPair read_stereo_pair(const YamlFields& item,
+                                 const std::vector<std::string>& camera_names);
 
 }  // namespace hd::sim

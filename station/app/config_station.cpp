@@ -1,4 +1,5 @@
 // assemble_from_config: the real station (station.yaml -> drivers -> pipelines).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -12,6 +13,7 @@
 #include "drivers/rtp/srtp_key.h"
 #include "drivers/usb/usb_id.h"
 #include "sim/scene/scene_file.h"
+
 #include "station/app/station_parts.h"
 
 namespace hd::station {
@@ -128,6 +130,8 @@ void add_cameras(StationParts& p, const StationConfig& config) {
     station::CameraPipelineConfig pc;
     pc.p_c = cc.p_c;
     pc.model_period_s = config.model.refresh_period_s;
+    // With stereo pairs every camera hands every frame to the model (docs/reconstruction.md).
+    if (!config.model.stereo.empty()) pc.model_period_s = 0.0;
     auto pipe = std::make_unique<station::CameraPipeline>(*device, pc);
     // The calibration fixes the size: the device is asked for it and must deliver exactly it
     // (drivers/camera_format.h, judge_format), so no frame is refused later for its size.
@@ -200,7 +204,9 @@ void add_model(StationParts& p, const StationConfig& config) {
   }
   // The scene file's geometry is the a-priori model; its simulated devices are never started.
   sim::Simulation geometry(sim::load_scene(config.model.scene_file));
-  p.model = geometry.model();
+  // With stereo pairs the moving objects get into the model as the pairs see them; without,
+  // the scene's objects stand where they are at t = 0.
+  p.model = config.model.stereo.empty() ? geometry.model() : geometry.static_model();
   if (p.pipelines.empty()) {
     p.report.opened("model", config.model.scene_file,
                     fmt("%g meshes, never re-textured (no camera)", p.model.meshes.size()));
@@ -211,11 +217,33 @@ void add_model(StationParts& p, const StationConfig& config) {
     mc.push_back({&p.pipelines[i]->model_frames(), p.cameras[i].p_c, p.cameras[i].T_world_real});
   station::ModelUpdaterConfig uc;
   uc.refresh_period_s = config.model.refresh_period_s;
+  std::string pairs;
+  for (const sim::SceneStereoPair& sp : config.model.stereo) {
+    const auto l = std::find(p.camera_names.begin(), p.camera_names.end(), sp.left);
+    const auto r = std::find(p.camera_names.begin(), p.camera_names.end(), sp.right);
+    if (l == p.camera_names.end() || r == p.camera_names.end()) {
+      p.report.missing("stereo pair", sp.left + "+" + sp.right, "a camera of the pair did not open",
+                       true);
+      continue;
+    }
+    uc.stereo_pairs.push_back(
+        model_stereo_pair(sp, static_cast<std::size_t>(l - p.camera_names.begin()),
+                          static_cast<std::size_t>(r - p.camera_names.begin()), config.workspace));
+    pairs += (pairs.empty() ? "" : ", ") + sp.left + "+" + sp.right;
+  }
   p.updater_clock = std::make_unique<render::MonotonicLoopClock>();
-  p.updater = std::make_unique<station::ModelUpdater>(p.model, mc, uc, *p.updater_clock);
+  try {
+    p.updater = std::make_unique<station::ModelUpdater>(p.model, mc, uc, *p.updater_clock);
+  } catch (const std::exception& e) {  // a pair that cannot be one (RigError names why)
+    p.report.missing("stereo pair", "model", e.what(), true);
+    uc.stereo_pairs.clear();
+    pairs.clear();
+    p.updater = std::make_unique<station::ModelUpdater>(p.model, mc, uc, *p.updater_clock);
+  }
   p.report.opened("model", config.model.scene_file,
                   fmt("%g meshes, re-textured from the cameras every %g s", p.model.meshes.size(),
-                      uc.refresh_period_s));
+                      uc.refresh_period_s) +
+                      (pairs.empty() ? std::string() : "; reconstructed by " + pairs));
 }
 
 }  // namespace

@@ -34,8 +34,9 @@ cv::Mat render_model_tile(const ModelSnapshot& snapshot, const core::Pinhole& ey
 std::string model_tile_label(const ModelSnapshot& snapshot) {
   std::size_t vertices = 0;
   for (std::size_t m = snapshot.prior_meshes; m < snapshot.scene.meshes.size(); ++m)
-    vertices += snapshot.scene.meshes[m].positions_m.size();
-  return "model #" + std::to_string(snapshot.update) + ": a-priori + reconstructed (magenta, " +
+    if (!snapshot.scene.meshes[m].triangles.empty())  // an empty one is a placeholder
+      vertices += snapshot.scene.meshes[m].positions_m.size();
+  return "model #" + std::to_string(snapshot.update) + ", reconstructed: magenta (" +
          std::to_string(vertices) + " v)";
 }
 

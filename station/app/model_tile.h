@@ -17,7 +17,7 @@ namespace hd::station {
 cv::Mat render_model_tile(const ModelSnapshot& snapshot, const core::Pinhole& eye,
                           const core::Pose& T_world_eye);
 
-/// The tile's label: "model #update: a-priori + reconstructed (magenta, N vertices)".
+/// The tile's label: "model #update, reconstructed: magenta (N v)" (N: reconstructed vertices).
 std::string model_tile_label(const ModelSnapshot& snapshot);
 
 }  // namespace hd::station

@@ -49,11 +49,6 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
   const bool ground_truth = sim.scene().model.moved_objects == sim::MovedObjects::kGroundTruth;
   const std::vector<sim::SceneStereoPair> stereo =
       ground_truth ? std::vector<sim::SceneStereoPair>{} : sim.scene().stereo;
-  auto in_pair = [&](const std::string& name) {
-    for (const sim::SceneStereoPair& sp : stereo)
-      if (sp.left == name || sp.right == name) return true;
-    return false;
-  };
 
   // Cameras: each simulated device through the station's pipeline, as a real one would be.
   const std::vector<drivers::CalibratedCamera> sim_cams = sim.station_cameras();
@@ -63,8 +58,12 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
     station::CameraPipelineConfig pc;
     pc.p_c = sim_cams[i].p_c;
     pc.model_period_s = staleness ? staleness->period_s : 1.0;
-    // A pair's cameras hand every frame to the model, so the updater finds two of one exposure.
-    if (in_pair(sc.name)) pc.model_period_s = 0.0;
+    // With stereo pairs every camera hands every frame to the model: the updater then finds a
+    // pair's two frames of one exposure, and every camera's newest frame within a frame time of
+    // them, so the textures show the workspace at the instant the geometry was measured (with
+    // one frame per period a camera's newest could be a period older, and paint a moving
+    // object's colours where the reconstruction has nothing).
+    if (!stereo.empty()) pc.model_period_s = 0.0;
     auto pipe = std::make_unique<station::CameraPipeline>(*sim_cams[i].source, pc);
     const std::string id = sim_cams[i].source->id();
     try {
@@ -118,17 +117,9 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
       p->report.missing("stereo pair", name, "a camera of the pair did not open", true);
       continue;
     }
-    station::ModelStereoPair mp;
-    mp.name = name;
-    mp.left = static_cast<std::size_t>(l - opened_names.begin());
-    mp.right = static_cast<std::size_t>(r - opened_names.begin());
-    mp.every_updates = sp.every_updates;
-    mp.reconstruction.matcher.kind = recon::matcher_kind_from_string(sp.matcher);
-    mp.reconstruction.matcher.min_disparity_px = sp.min_disparity_px;
-    mp.reconstruction.matcher.num_disparities_px = sp.num_disparities_px;
-    mp.reconstruction.measure_row_error = false;  // the rig is the scene's: exact
-    mp.bounds = workspace;
-    mp.use_bounds = true;
+    station::ModelStereoPair mp =
+        model_stereo_pair(sp, static_cast<std::size_t>(l - opened_names.begin()),
+                          static_cast<std::size_t>(r - opened_names.begin()), workspace);
     pairs.push_back(mp);
   }
   if ((staleness || !pairs.empty()) && !p->pipelines.empty()) {

@@ -4,6 +4,7 @@
 
 #include "calib/calibration_file.h"
 #include "sim/scene/scene.h"
+#include "sim/scene/scene_file.h"
 #include "sim/scene/yaml_fields.h"
 
 namespace hd::station {
@@ -158,6 +159,10 @@ StationConfig read_station(const sim::YamlFields& root) {
     }
     s.model.refresh_period_s =
         m->optional_double("refresh_period_s", s.model.refresh_period_s, Range::positive());
+    std::vector<std::string> names;
+    for (const CameraConfig& c : s.cameras) names.push_back(c.name);
+    for (const sim::YamlFields& sp : m->optional_list("stereo"))
+      s.model.stereo.push_back(sim::read_stereo_pair(sp, names));
     m->finish();
   }
   static const std::vector<std::string> predictors{"none", "cv", "kalman"};

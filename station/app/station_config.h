@@ -11,6 +11,7 @@
 #include "core/transition.h"
 #include "core/workspace_box.h"
 #include "sim/scene/config_error.h"
+#include "sim/scene/scene.h"
 
 namespace hd::station {
 
@@ -55,6 +56,9 @@ struct DisplayConfig {
 struct ModelConfig {
   std::string scene_file;  ///< a scene file whose geometry is the a-priori model ("" = none)
   double refresh_period_s = 1.0;
+  /// Camera pairs (by camera `name`) the model updater reconstructs at the refresh period; with
+  /// any, the a-priori model is the scene file's static geometry only (docs/reconstruction.md).
+  std::vector<sim::SceneStereoPair> stereo;
 };
 
 struct StationConfig {

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "recon/matcher_config.h"
+
 namespace hd::station {
 namespace {
 
@@ -31,6 +33,22 @@ void StationParts::stop() {
   if (updater) updater->stop();
   if (head) head->stop();
   for (auto& p : pipelines) p->stop();
+}
+
+station::ModelStereoPair model_stereo_pair(const sim::SceneStereoPair& sp, std::size_t left,
+                                           std::size_t right, const core::WorkspaceBox& workspace) {
+  station::ModelStereoPair mp;
+  mp.name = sp.left + "+" + sp.right;
+  mp.left = left;
+  mp.right = right;
+  mp.every_updates = sp.every_updates;
+  mp.reconstruction.matcher.kind = recon::matcher_kind_from_string(sp.matcher);
+  mp.reconstruction.matcher.min_disparity_px = sp.min_disparity_px;
+  mp.reconstruction.matcher.num_disparities_px = sp.num_disparities_px;
+  mp.reconstruction.measure_row_error = false;  // a diagnostic for hybrid-recon, not per update
+  mp.bounds = workspace;
+  mp.use_bounds = true;
+  return mp;
 }
 
 void configure_frame(StationParts& p, DisplayConfig display, core::TransitionParams transition,

@@ -65,6 +65,11 @@ struct StationParts {
 
 /// Fills p.frame_config, rate, scan-out, predictor and monitor from the file's values with the
 /// command line's overrides applied (an option given wins), and notes them in the report.
+/// A stereo pair as a scene file or station.yaml gives it, as the model updater takes it: cameras
+/// `left` / `right` by index into the updater's cameras, vertices kept inside `workspace`.
+station::ModelStereoPair model_stereo_pair(const sim::SceneStereoPair& pair, std::size_t left,
+                                           std::size_t right, const core::WorkspaceBox& workspace);
+
 void configure_frame(StationParts& p, DisplayConfig display, core::TransitionParams transition,
                      core::MarkingParams marking, const core::WorkspaceBox& workspace,
                      const std::string& predictor, const RunOptions& options);

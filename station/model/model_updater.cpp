@@ -34,11 +34,37 @@ void copy_model(const render::SyntheticScene& src, render::SyntheticScene& dst,
   dst.revision = src.revision;
 }
 
-// The a-priori model followed by one empty mesh per stereo pair.
-render::SyntheticScene with_pair_meshes(const render::SyntheticScene& initial, std::size_t pairs) {
+// The a-priori model followed by one placeholder mesh per stereo pair: as many vertices as the
+// pair's mesh can ever have, no triangles, no texture (invalid: no compositor draws it), so a
+// rasteriser that drew the initial model never needs to grow for a reconstruction.
+render::SyntheticScene with_pair_meshes(
+    const render::SyntheticScene& initial,
+    const std::vector<std::unique_ptr<PairReconstruction>>& pairs) {
   render::SyntheticScene s = initial;
-  s.meshes.resize(initial.meshes.size() + pairs);
+  for (const auto& p : pairs) {
+    render::TexturedMesh m;
+    m.positions_m.assign(p->max_vertices(), Eigen::Vector3f::Zero());
+    s.meshes.push_back(std::move(m));
+  }
   return s;
+}
+
+std::vector<std::unique_ptr<PairReconstruction>> make_pairs(
+    const std::vector<ModelStereoPair>& config, const std::vector<ModelCamera>& cameras,
+    const render::SyntheticScene& prior) {
+  std::vector<std::unique_ptr<PairReconstruction>> pairs;
+  for (const ModelStereoPair& p : config) {
+    if (p.left >= cameras.size() || p.right >= cameras.size() || p.left == p.right)
+      throw std::invalid_argument("model updater: stereo pair " + p.name +
+                                  " names a camera that is not there (" + std::to_string(p.left) +
+                                  ", " + std::to_string(p.right) + " of " +
+                                  std::to_string(cameras.size()) + ")");
+    const ModelCamera& l = cameras[p.left];
+    const ModelCamera& r = cameras[p.right];
+    pairs.push_back(
+        std::make_unique<PairReconstruction>(p, l.p_c, l.T_world_cam, r.p_c, r.T_world_cam, prior));
+  }
+  return pairs;
 }
 
 ModelSnapshot initial_snapshot(const render::SyntheticScene& initial, std::size_t prior_meshes) {
@@ -67,8 +93,9 @@ ModelUpdater::ModelUpdater(const render::SyntheticScene& initial,
     : config_(std::move(config)),
       clock_(clock),
       cameras_(cameras.begin(), cameras.end()),
+      pairs_(make_pairs(config_.stereo_pairs, cameras_, initial)),
       prior_meshes_(initial.meshes.size()),
-      working_(with_pair_meshes(initial, config_.stereo_pairs.size())),
+      working_(with_pair_meshes(initial, pairs_)),
       extractor_(config_.extractor),
       models_(initial_snapshot(working_, initial.meshes.size())),
       revision_(initial.revision) {
@@ -82,17 +109,9 @@ ModelUpdater::ModelUpdater(const render::SyntheticScene& initial,
   delay_ns_ = static_cast<int64_t>(std::llround(config_.delay_s * 1e9));
   if (!std::isfinite(config_.pair_sync_timeout_s) || config_.pair_sync_timeout_s < 0)
     throw std::invalid_argument("model updater: pair sync timeout must be >= 0 seconds");
-  for (const ModelStereoPair& p : config_.stereo_pairs) {
-    if (p.left >= cameras_.size() || p.right >= cameras_.size() || p.left == p.right)
-      throw std::invalid_argument("model updater: stereo pair " + p.name +
-                                  " names a camera that is not there (" + std::to_string(p.left) +
-                                  ", " + std::to_string(p.right) + " of " +
-                                  std::to_string(cameras_.size()) + ")");
-    const ModelCamera& l = cameras_[p.left];
-    const ModelCamera& r = cameras_[p.right];
-    pairs_.push_back(std::make_unique<PairReconstruction>(p, l.p_c, l.T_world_cam, r.p_c,
-                                                          r.T_world_cam, initial));
-  }
+  // Occluders for the extractor (two per pair), after everything published: copy_model stops at
+  // the slots' mesh count, so they never reach the station.
+  working_.meshes.resize(prior_meshes_ + 3 * pairs_.size());
   views_.reserve(cameras_.size());
   extractor_.prepare(initial);  // the a-priori meshes; the reconstructed ones only occlude
 }
@@ -200,6 +219,19 @@ void ModelUpdater::reconstruct_pairs() {
       capture_newest_ns_ = std::max(capture_newest_ns_, pr.capture_ns());
     }
     vertices += working_.meshes[prior_meshes_ + k].positions_m.size();
+    // The pair's surface pushed back along its left camera's rays: the hidden depth of what it
+    // saw, so the extractor's occlusion test covers the objects' unseen backs.
+    const render::TexturedMesh& seen = working_.meshes[prior_meshes_ + k];
+    const Eigen::Vector3f c = cameras_[p.left].T_world_cam.t.cast<float>();
+    for (int j = 0; j < 2; ++j) {
+      render::TexturedMesh& occ = working_.meshes[prior_meshes_ + pairs_.size() + 2 * k + j];
+      const float depth = static_cast<float>(p.occluder_depth_m) * (j == 0 ? 0.5f : 1.0f);
+      occ.positions_m = seen.positions_m;
+      for (Eigen::Vector3f& X : occ.positions_m) X += depth * (X - c).normalized();
+      occ.uvs = seen.uvs;
+      occ.triangles = seen.triangles;
+      if (occ.texture.empty()) occ.texture.allocate(1, 1);
+    }
   }
   reconstruct_ns_ = clock_.now_ns() - t0;
   last_reconstruct_ns_.store(reconstruct_ns_, std::memory_order_relaxed);

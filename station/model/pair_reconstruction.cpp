@@ -43,6 +43,10 @@ PairReconstruction::PairReconstruction(const ModelStereoPair& pair, const core::
     throw std::invalid_argument("stereo pair " + pair_.name + ": prior margins must be >= 0");
   // The a-priori depth along every left pixel, once: that geometry never moves.
   const int w = left_p_c_.width, h = left_p_c_.height;
+  const cv::Size rs = recon_.rectification().size();
+  const int stride = std::max(1, pair_.reconstruction.mesh.stride_px);
+  max_vertices_ = static_cast<std::size_t>(rs.width / stride + 2) *
+                  static_cast<std::size_t>(rs.height / stride + 2);
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   prior_inv_depth_.assign(n, 0.0f);
   std::vector<uint8_t> rgba(n * 4);
@@ -126,6 +130,7 @@ void PairReconstruction::cut(const drivers::Frame& left) {
   for (const auto& tri : dm.triangles) {
     if (!is_new_[tri[0]] || !is_new_[tri[1]] || !is_new_[tri[2]]) continue;
     if (piece_size_[root(tri[0])] < min_piece) continue;
+    if (mesh_.positions_m.size() + 3 > max_vertices_) break;  // never: the grid bounds it
     std::array<uint32_t, 3> t{};
     for (int k = 0; k < 3; ++k) {
       int32_t& r = remap_[tri[k]];

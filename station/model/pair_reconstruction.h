@@ -43,6 +43,11 @@ struct ModelStereoPair {
   /// mismatches in textureless patches and at outlines come as small islands, objects as
   /// larger ones (the default scene's 8 cm block: ~130 vertices at a 2 px grid).
   int min_piece_vertices = 24;
+  /// What a surface seen from one side hides behind it, for the texture extractor only: the
+  /// reconstructed mesh is also put this far behind itself (and half as far) along the left
+  /// camera's rays as occluders that are never drawn, so another camera does not paint an
+  /// object's colours onto the table behind it (the object's back is not reconstructed).
+  double occluder_depth_m = 0.1;
   std::string name;  ///< "cam0+cam0r", for messages
 };
 
@@ -75,6 +80,10 @@ class PairReconstruction {
   bool update(const drivers::Frame& left, const drivers::Frame& right);
 
   const ModelStereoPair& pair() const { return pair_; }
+  /// The most vertices mesh() can have: the depth mesh's grid over the left image. The updater's
+  /// initial model holds a placeholder of this many (not drawn), so the station's rasteriser
+  /// reaches its final size before the first reconstruction arrives and never grows after.
+  std::size_t max_vertices() const { return max_vertices_; }
   const render::TexturedMesh& mesh() const { return mesh_; }
   /// The older capture time of the frames mesh() was measured from; 0 before the first.
   int64_t capture_ns() const { return capture_ns_; }
@@ -96,6 +105,7 @@ class PairReconstruction {
   std::vector<uint32_t> parent_;  ///< union-find over the depth mesh's vertices
   std::vector<uint32_t> piece_size_;
   int64_t capture_ns_ = 0;
+  std::size_t max_vertices_ = 0;
   PairReconstructionStats stats_;
 };
 

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <vector>
 
+#include "core/allocation_counter.h"
+#include "render/compositor/cpu_compositor.h"
 #include "render/loop/loop_clock.h"
 #include "sim/scene/scene_file.h"
 #include "sim/simulation.h"
@@ -210,6 +212,44 @@ TEST_F(DefaultSceneModel, OldPlaceOfTheBlockIsEmptyAfterOneUpdate) {
       EXPECT_GT(old_place.distance(p.cast<double>()), 0.01);
   // The new place has it.
   EXPECT_GE(near(reconstructed(s), new_place, 0.02).size(), 50u);
+}
+
+// The render thread draws whatever snapshot the updater published; a reconstructed mesh that
+// grows from one update to the next must not make it allocate. The initial snapshot holds a
+// placeholder of the pair's largest mesh, which sizes the compositor's buffers in warm-up.
+TEST_F(DefaultSceneModel, DrawingReconstructedSnapshotsAllocatesNothingAfterTheInitialOne) {
+  const int64_t t0 = publish_frames(kBeforeSeq);
+  SceneTimeClock clock(t0);
+  ModelUpdater updater(parts_->model, model_cameras(), parts_->updater->config(), clock);
+  render::CpuCompositor compositor(1);
+  render::CompositeRequest req;
+  // From where the default scene's head turns away (synthetic view): the whole model in view.
+  req.eye = core::Pinhole::centred(432, 480, 400);
+  req.T_world_eye = {sim::rotation_from_ypr_deg(Eigen::Vector3d(30, -33, 0)),
+                     Eigen::Vector3d(-0.7, -0.5, 0.2)};
+  req.viewport = {0, 0, 480, 400};
+  render::ImageRgba8 out;
+  out.allocate(480, 400);
+  auto draw = [&] {
+    updater.models().fetch();
+    req.scene = &updater.models().latest().scene;
+    compositor.draw(req, out);
+  };
+  draw();  // warm-up: the initial snapshot (a-priori model + placeholders)
+  std::size_t drawn_vertices = 0;
+  uint64_t allocations = 0;
+  for (uint64_t seq : {kBeforeSeq, kBeforeSeq + 30, kAfterSeq, kAfterSeq + 30}) {
+    publish_frames(seq);
+    ASSERT_TRUE(updater.update_once());
+    hd::core::reset_counted_allocations();
+    hd::core::count_allocations_on_this_thread(true);
+    draw();
+    hd::core::count_allocations_on_this_thread(false);
+    allocations += hd::core::counted_allocations();
+    drawn_vertices = std::max(drawn_vertices, reconstructed(updater.models().latest()).size());
+  }
+  EXPECT_GT(drawn_vertices, 100u);  // reconstructions were drawn
+  EXPECT_EQ(allocations, 0u);
 }
 
 }  // namespace

@@ -77,7 +77,7 @@ marking: {style: checker, checker_cell_px: 12}
 workspace: {min_m: [-1, -0.5, 0.5], max_m: [1, 0.5, 2]}
 tracker_to_workspace: {position_m: [0, -0.2, 0], ypr_deg: [0, 0, 0]}
 home_pose: {position_m: [0.1, 0, 0]}
-model: {refresh_period_s: 0.5}
+model: {refresh_period_s: 0.5, stereo: [{left: left, right: camera1, num_disparities_px: 32}]}
 predictor: cv
 )";
 
@@ -133,6 +133,11 @@ TEST_F(StationConfigTest, GoodFileReadsEveryValue) {
   EXPECT_TRUE(c.T_world_home.t.isApprox(Eigen::Vector3d(0.1, 0, 0)));
   EXPECT_DOUBLE_EQ(c.model.refresh_period_s, 0.5);
   EXPECT_TRUE(c.model.scene_file.empty());
+  ASSERT_EQ(c.model.stereo.size(), 1u);  // cameras by name; the second one's is "camera1"
+  EXPECT_EQ(c.model.stereo[0].left, "left");
+  EXPECT_EQ(c.model.stereo[0].right, "camera1");
+  EXPECT_EQ(c.model.stereo[0].num_disparities_px, 32);
+  EXPECT_EQ(c.model.stereo[0].matcher, "sgbm-scaled");
   EXPECT_EQ(c.predictor, "cv");
 }
 
@@ -183,6 +188,8 @@ std::vector<Broken> broken_snippets() {
       {"workspace min above max", "workspace.max_m",
        cam + "tracker: {id: mock}\nworkspace:\n  min_m: [0, 0, 0]\n  max_m: [1, -1, 1]   # <-\n"},
       {"bad predictor", "predictor", cam + tail + "predictor: magic   # <-\n"},
+      {"stereo pair names an unknown camera", "model.stereo[0].right",
+       cam + tail + "model:\n  stereo:\n    - {left: camera0, right: nope}   # <-\n"},
   };
 }
 
