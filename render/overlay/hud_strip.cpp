@@ -87,7 +87,11 @@ std::vector<std::string> HudStrip::layout(std::string_view text, int width_px, i
       while (n < rest.size() && fits(rest.substr(0, n + 1))) ++n;
       line = rest.substr(0, n);
     }
-    lines.push_back(trim_right(line));
+    // A line broken at " | " ends at the field, not at a dangling separator.
+    std::string shown = trim_right(line);
+    if (shown.size() > 1 && shown.back() == '|')
+      shown = trim_right(shown.substr(0, shown.size() - 1));
+    lines.push_back(shown);
     rest = trim_left(rest.substr(line.size()));
   }
   if (static_cast<int>(lines.size()) > std::max(1, max_lines)) {

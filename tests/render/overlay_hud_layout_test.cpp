@@ -36,6 +36,7 @@ TEST(HudLayout, LongTextWrapsAtItsSeparatorsAndKeepsEveryWord) {
     EXPECT_LE(drawn_width(l, line_h), width - 2 * HudStrip::kMarginPx) << l;
     joined += (joined.empty() ? "" : " ") + l;
     EXPECT_EQ(l.find("..."), std::string::npos);
+    EXPECT_NE(l.back(), '|') << l;  // broken at a separator, which is not left dangling
   }
   // Broken at " | " where it can be: the second line starts with a field, not mid-word.
   EXPECT_EQ(lines[1].rfind("missed", 0) == 0 || lines[1].rfind("video", 0) == 0 ||
