@@ -14,16 +14,19 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
 #include "render/gl/gl_compositor.h"
 #include "render/lens/cpu_predistorter.h"
+#include "render/lens/hmd_profile_file.h"
 #include "render/lens/lens_warp.h"
 
 namespace {
@@ -143,9 +146,76 @@ Maps make_maps(const LensWarp& w) {
   return m;
 }
 
+// Largest distance between a mesh's linearly interpolated green sample point (vertices every
+// `step` px, two triangles per cell as GlCompositor::set_lens builds them) and the exact one,
+// over eye 0's usable pixels.
+double mesh_error_px(const LensWarp& w, int step) {
+  double worst = 0;
+  for (int y = 0; y < w.panel_height(); ++y)
+    for (int x = 0; x < w.eye_panel_width(); ++x) {
+      double u = 0, v = 0;
+      if (!w.source(0, x + 0.5, y + 0.5, 1, &u, &v)) continue;
+      const int x0 = x / step * step, y0 = y / step * step;
+      const int x1 = std::min(x0 + step, w.eye_panel_width()),
+                y1 = std::min(y0 + step, w.panel_height());
+      const double fx = (x + 0.5 - x0) / (x1 - x0), fy = (y + 0.5 - y0) / (y1 - y0);
+      double a[2], b[2], c[2], d[2];
+      w.source_unclamped(0, x0, y0, 1, &a[0], &a[1]);
+      w.source_unclamped(0, x1, y0, 1, &b[0], &b[1]);
+      w.source_unclamped(0, x0, y1, 1, &c[0], &c[1]);
+      w.source_unclamped(0, x1, y1, 1, &d[0], &d[1]);
+      double iu = 0, iv = 0;
+      if (fx + fy <= 1) {
+        iu = a[0] + fx * (b[0] - a[0]) + fy * (c[0] - a[0]);
+        iv = a[1] + fx * (b[1] - a[1]) + fy * (c[1] - a[1]);
+      } else {
+        iu = d[0] + (1 - fx) * (c[0] - d[0]) + (1 - fy) * (b[0] - d[0]);
+        iv = d[1] + (1 - fx) * (c[1] - d[1]) + (1 - fy) * (b[1] - d[1]);
+      }
+      worst = std::max(worst, std::hypot(iu - u, iv - v));
+    }
+  return worst;
+}
+
+// docs/hmd_grid.png: a straight grid in both eye images (left) and the DK1 panel it becomes
+// (right), R, G and B pre-distorted separately (the colour fringes toward the rim).
+void write_figure(const std::string& path) {
+  const LensWarp w(load_hmd_profile(shipped_profile_dir() + "/oculus-dk1.yaml"));
+  ImageRgba8 eyes;
+  eyes.allocate(2 * w.eye_width(), w.eye_height());
+  for (int y = 0; y < eyes.height; ++y)
+    for (int x = 0; x < eyes.width; ++x) {
+      const int e = x < w.eye_width() ? 0 : 1;
+      const double u = x - e * w.eye_width() + 0.5 - w.eye(e).cx, v = y + 0.5 - w.eye(e).cy;
+      const bool line =
+          std::abs(std::remainder(u, 60.0)) < 2.0 || std::abs(std::remainder(v, 60.0)) < 2.0;
+      uint8_t* p = eyes.pixel(x, y);
+      p[0] = p[1] = p[2] = line ? 255 : 40;
+      p[3] = 255;
+    }
+  ImageRgba8 panel;
+  panel.allocate(w.panel_width(), w.panel_height());
+  CpuPredistorter(w, 1).apply(eyes, panel);
+  const cv::Mat e(eyes.height, eyes.width, CV_8UC4, eyes.data.data());
+  const cv::Mat p(panel.height, panel.width, CV_8UC4, panel.data.data());
+  cv::Mat e_small, both, bgr;
+  cv::resize(e, e_small, cv::Size(eyes.width * panel.height / eyes.height, panel.height), 0, 0,
+             cv::INTER_AREA);
+  cv::Mat gap(panel.height, 24, CV_8UC4, cv::Scalar(255, 255, 255, 255));
+  cv::hconcat(std::vector<cv::Mat>{e_small, gap, p}, both);
+  cv::cvtColor(both, bgr, cv::COLOR_RGBA2BGR);
+  cv::imwrite(path, bgr);
+  std::printf("wrote %s (eyes %dx%d scaled to the panel's height | DK1 panel %dx%d)\n",
+              path.c_str(), eyes.width, eyes.height, panel.width, panel.height);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 2 && std::strcmp(argv[1], "--figure") == 0) {
+    write_figure(argv[2]);
+    return 0;
+  }
   const int runs = argc > 1 ? std::max(3, std::atoi(argv[1])) : 21;
   const LensWarp warp(bench_profile());
   const ImageRgba8 eyes = eyes_pattern(warp);
@@ -197,5 +267,35 @@ int main(int argc, char** argv) {
   std::printf(
       "\nTable / exact time: %.3f (1 thread), %.3f (2 threads); table / OpenCV 3-map remap: %.2f\n",
       t1.wall_ms / t_exact.wall_ms, t2.wall_ms / t_exact.wall_ms, t1.wall_ms / t_cv3.wall_ms);
+
+  // GL: the fragment pass and meshes of several resolutions (pass + read-back, llvmpipe).
+  std::unique_ptr<hd::render::GlCompositor> gl;
+  try {
+    hd::render::gl::WindowOptions o;
+    o.headless = true;
+    gl = std::make_unique<hd::render::GlCompositor>(o);
+  } catch (const std::exception& e) {
+    std::printf("\nGL: skipped (%s; run under xvfb-run)\n", e.what());
+    return 0;
+  }
+  std::printf(
+      "\n| GL pre-distortion (%s), pass + read-back | max geometric error px | RMS levels "
+      "vs CPU exact | median ms | min ms | CPU ms |\n|---|---|---|---|---|---|\n",
+      gl->renderer().c_str());
+  ImageRgba8 gl_panel;
+  gl_panel.allocate(warp.panel_width(), warp.panel_height());
+  for (int step : {0, 2, 4, 8, 16, 32}) {
+    gl->set_lens_mesh_step(step);
+    gl->set_lens(&warp);
+    gl->load_picture(eyes);
+    const Timing t = time_it(runs, [&] { gl->predistort(eyes, gl_panel); });
+    char name[64];
+    if (step == 0)
+      std::snprintf(name, sizeof name, "**exact fragment pass (default)**");
+    else
+      std::snprintf(name, sizeof name, "mesh, a vertex every %d px", step);
+    row(name, step == 0 ? 0.0 : mesh_error_px(warp, step), rms_levels(gl_panel, exact), t);
+  }
+  gl->set_lens(nullptr);
   return 0;
 }

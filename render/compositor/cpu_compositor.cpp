@@ -64,6 +64,15 @@ CpuCompositor::~CpuCompositor() {
   }
 }
 
+void CpuCompositor::set_lens(const lens::LensWarp* warp) {
+  lens_.reset();
+  if (warp) lens_ = std::make_unique<lens::CpuPredistorter>(*warp, threads_);
+}
+
+void CpuCompositor::predistort(const ImageRgba8& eyes, ImageRgba8& panel) {
+  if (lens_ && !lens_->apply(eyes, panel)) ++stats_.requests_rejected;
+}
+
 void CpuCompositor::worker_loop() {
   uint64_t seen = 0;
   for (;;) {

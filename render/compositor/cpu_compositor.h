@@ -3,12 +3,14 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <thread>
 #include <vector>
 
 #include "render/compositor/compositor.h"
 #include "render/compositor/mesh_rasterizer.h"
 #include "render/compositor/video_warp.h"
+#include "render/lens/cpu_predistorter.h"
 #include "render/overlay/overlay_painter.h"
 
 namespace hd::render {
@@ -31,6 +33,9 @@ class CpuCompositor final : public Compositor {
   void draw_overlay(const Overlay& overlay, const Viewport& vp, ImageRgba8& out) override {
     paint_overlay(overlay, vp, out);
   }
+  /// The lens table (lens::CpuPredistorter) with this compositor's thread count.
+  void set_lens(const lens::LensWarp* warp) override;
+  void predistort(const ImageRgba8& eyes, ImageRgba8& panel) override;
   const CompositorStats& stats() const override { return stats_; }
 
  private:
@@ -51,6 +56,8 @@ class CpuCompositor final : public Compositor {
   const SyntheticScene* scene_ = nullptr;
   VideoWarp warp_;
   bool video_on_ = false;
+
+  std::unique_ptr<lens::CpuPredistorter> lens_;
 
   int threads_ = 1;
   std::thread worker_;

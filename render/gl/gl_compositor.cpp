@@ -9,6 +9,7 @@
 
 #include "render/compositor/request_check.h"
 #include "render/compositor/video_warp.h"
+#include "render/lens/lens_warp.h"
 
 namespace hd::render {
 
@@ -157,6 +158,65 @@ uniform sampler2D strip;
 uniform vec2 origin;
 out vec4 colour;
 void main() { colour = texelFetch(strip, ivec2(gl_FragCoord.xy - origin), 0); }
+)";
+
+// The lens pass: vertices at panel positions (px) carrying the green sample point (eyes-picture
+// px) and the eye; see GlCompositor::set_lens.
+constexpr const char* kLensVs = R"(#version 330 core
+layout(location = 0) in vec2 panel_px;
+layout(location = 1) in vec2 green_px;
+layout(location = 2) in float eye;
+uniform vec2 panel_size;
+out vec2 green;
+flat out int eye_i;
+void main() {
+  green = green_px;
+  eye_i = int(eye + 0.5);
+  gl_Position = vec4(panel_px / panel_size * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
+constexpr const char* kLensFs = R"(#version 330 core
+uniform sampler2D eyes;
+uniform vec2 eyes_size;
+uniform vec2 centre[2];
+uniform vec2 lens_px[2];
+uniform vec2 inv_unit_px;
+uniform float max_radius;
+uniform vec3 scale;
+uniform float eye_w;
+uniform int exact;
+uniform float k[12];
+uniform int k_count;
+in vec2 green;
+flat in int eye_i;
+out vec4 colour;
+void main() {
+  vec2 q = gl_FragCoord.xy - lens_px[eye_i];
+  vec2 d = q * inv_unit_px;
+  float r = length(d);
+  if (max_radius > 0.0 && r > max_radius) {
+    colour = vec4(0.0, 0.0, 0.0, 1.0);
+    return;
+  }
+  vec2 g = green;
+  if (exact != 0) {
+    // The lens polynomial at this fragment: green = centre + P(r) / (r P'(0)) * q.
+    float p = 0.0;
+    for (int i = k_count - 1; i >= 1; --i) p = p * r + k[i];
+    g = centre[eye_i] + (r > 0.0 ? p : k[1]) / k[1] * q;
+  }
+  float lo = float(eye_i) * eye_w + 0.5;
+  float hi = lo + eye_w - 1.0;
+  vec2 c = centre[eye_i];
+  vec3 rgb;
+  for (int ch = 0; ch < 3; ++ch) {
+    vec2 s = c + scale[ch] * (g - c);
+    s.x = clamp(s.x, lo, hi);
+    rgb[ch] = texture(eyes, s / eyes_size)[ch];
+  }
+  colour = vec4(rgb, 1.0);
+}
 )";
 
 GLuint compile(GLenum type, const char* source, const char* name) {
@@ -579,18 +639,19 @@ void GlCompositor::draw_overlay(const Overlay& overlay, const Viewport& vp, Imag
     const ImageRgba8& strip = overlay.hud->image();
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, hud_texture_.get());
+    // The texture holds the strip's every line, so a change of line count re-uploads only.
+    const int cap_h = overlay.hud->capacity_height();
     if (hud_uploaded_ != overlay.hud || hud_revision_ != overlay.hud->revision() ||
-        hud_w_ != strip.width || hud_h_ != strip.height) {
+        hud_w_ != strip.width || hud_h_ != cap_h) {
       glPixelStorei(GL_UNPACK_ROW_LENGTH, strip.stride_bytes / 4);
-      if (hud_w_ != strip.width || hud_h_ != strip.height) {
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, strip.width, strip.height, 0, GL_RGBA,
-                     GL_UNSIGNED_BYTE, strip.data.data());
+      if (hud_w_ != strip.width || hud_h_ != cap_h) {
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, strip.width, cap_h, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                     nullptr);
         hud_w_ = strip.width;
-        hud_h_ = strip.height;
-      } else {
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, strip.width, strip.height, GL_RGBA,
-                        GL_UNSIGNED_BYTE, strip.data.data());
+        hud_h_ = cap_h;
       }
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, strip.width, strip.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                      strip.data.data());
       glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
       hud_uploaded_ = overlay.hud;
       hud_revision_ = overlay.hud->revision();
@@ -620,15 +681,170 @@ void GlCompositor::draw_overlay(const Overlay& overlay, const Viewport& vp, Imag
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+void GlCompositor::set_lens(const lens::LensWarp* warp) {
+  window_->make_current();
+  lens_ = warp;
+  lens_index_count_ = 0;
+  if (!warp) return;
+  if (!lens_program_) {
+    lens_program_ = link(kLensVs, kLensFs, "lens");
+    glUseProgram(lens_program_.get());
+    glUniform1i(glGetUniformLocation(lens_program_.get(), "eyes"), 0);
+    glUseProgram(0);
+  }
+  // Exact per fragment: two triangles per eye carry the eye index only.
+  const int step = lens_mesh_step_px_ > 0 ? lens_mesh_step_px_ : 1 << 20;
+  const int hw = warp->eye_panel_width(), h = warp->panel_height();
+  std::vector<int> xs, ys;
+  for (int x = 0; x < hw; x += step) xs.push_back(x);
+  xs.push_back(hw);
+  for (int y = 0; y < h; y += step) ys.push_back(y);
+  ys.push_back(h);
+  std::vector<float> vertices;
+  std::vector<GLuint> indices;
+  for (int e = 0; e < 2; ++e) {
+    const GLuint first = static_cast<GLuint>(vertices.size() / 5);
+    for (int y : ys)
+      for (int x : xs) {
+        double u = 0, v = 0;
+        warp->source_unclamped(e, x, y, 1, &u, &v);
+        for (double value :
+             {double(x + e * hw), double(y), u + e * warp->eye_width(), v, double(e)})
+          vertices.push_back(static_cast<float>(value));
+      }
+    const GLuint nx = static_cast<GLuint>(xs.size());
+    for (GLuint j = 0; j + 1 < ys.size(); ++j)
+      for (GLuint i = 0; i + 1 < nx; ++i) {
+        const GLuint a = first + j * nx + i, b = a + 1, c = a + nx, d = c + 1;
+        for (GLuint k : {a, b, c, b, d, c}) indices.push_back(k);
+      }
+  }
+  lens_vao_ = gl::VertexArray::create();
+  lens_vbo_ = gl::Buffer::create();
+  lens_ibo_ = gl::Buffer::create();
+  glBindVertexArray(lens_vao_.get());
+  glBindBuffer(GL_ARRAY_BUFFER, lens_vbo_.get());
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
+               vertices.data(), GL_STATIC_DRAW);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, lens_ibo_.get());
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)),
+               indices.data(), GL_STATIC_DRAW);
+  const GLsizei stride = 5 * sizeof(float);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<const void*>(2 * sizeof(float)));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<const void*>(4 * sizeof(float)));
+  glBindVertexArray(0);
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+  lens_index_count_ = static_cast<int>(indices.size());
+
+  panel_w_ = warp->panel_width();
+  panel_h_ = warp->panel_height();
+  panel_colour_ = gl::Texture::create();
+  glBindTexture(GL_TEXTURE_2D, panel_colour_.get());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, panel_w_, panel_h_, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  panel_fbo_ = gl::Framebuffer::create();
+  glBindFramebuffer(GL_FRAMEBUFFER, panel_fbo_.get());
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, panel_colour_.get(),
+                         0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+  // Uniforms fixed by the profile.
+  const lens::HmdProfile& prof = warp->profile();
+  const GLuint l = lens_program_.get();
+  glUseProgram(l);
+  glUniform2f(glGetUniformLocation(l, "panel_size"), static_cast<float>(panel_w_),
+              static_cast<float>(panel_h_));
+  glUniform2f(glGetUniformLocation(l, "eyes_size"), static_cast<float>(2 * warp->eye_width()),
+              static_cast<float>(warp->eye_height()));
+  const float centre[4] = {static_cast<float>(warp->eye(0).cx), static_cast<float>(warp->eye(0).cy),
+                           static_cast<float>(warp->eye(1).cx + warp->eye_width()),
+                           static_cast<float>(warp->eye(1).cy)};
+  glUniform2fv(glGetUniformLocation(l, "centre"), 2, centre);
+  float lens_px[4];
+  for (int e = 0; e < 2; ++e) {
+    lens_px[2 * e] = static_cast<float>(prof.lens_centre_m[e].x() / prof.pitch_x_m() + e * hw);
+    lens_px[2 * e + 1] = static_cast<float>(prof.lens_centre_m[e].y() / prof.pitch_y_m());
+  }
+  glUniform2fv(glGetUniformLocation(l, "lens_px"), 2, lens_px);
+  glUniform2f(glGetUniformLocation(l, "inv_unit_px"),
+              static_cast<float>(prof.pitch_x_m() / prof.r_unit_m.x()),
+              static_cast<float>(prof.pitch_y_m() / prof.r_unit_m.y()));
+  glUniform1f(glGetUniformLocation(l, "max_radius"), static_cast<float>(prof.max_radius));
+  glUniform3f(glGetUniformLocation(l, "scale"), static_cast<float>(warp->channel_scale(0)), 1.0f,
+              static_cast<float>(warp->channel_scale(2)));
+  glUniform1f(glGetUniformLocation(l, "eye_w"), static_cast<float>(warp->eye_width()));
+  glUniform1i(glGetUniformLocation(l, "exact"), lens_mesh_step_px_ == 0 ? 1 : 0);
+  float k[12] = {};
+  const std::size_t nk = std::min<std::size_t>(12, prof.coefficients.size());
+  for (std::size_t i = 0; i < nk; ++i) k[i] = static_cast<float>(prof.coefficients[i]);
+  glUniform1fv(glGetUniformLocation(l, "k"), 12, k);
+  glUniform1i(glGetUniformLocation(l, "k_count"), static_cast<int>(nk));
+  glUseProgram(0);
+}
+
+void GlCompositor::load_picture(const ImageRgba8& picture) {
+  window_->make_current();
+  ensure_targets(picture.width, picture.height);
+  glBindTexture(GL_TEXTURE_2D, final_colour_.get());
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, picture.stride_bytes / 4);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, picture.width, picture.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                  picture.data.data());
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  last_read_back_ = true;
+}
+
+void GlCompositor::predistort(const ImageRgba8& eyes, ImageRgba8& panel) {
+  if (!lens_ || lens_index_count_ == 0) return;
+  if (target_w_ < 2 * lens_->eye_width() || target_h_ < lens_->eye_height() ||
+      eyes.width != target_w_ ||
+      (last_read_back_ && (panel.width != panel_w_ || panel.height != panel_h_))) {
+    ++stats_.requests_rejected;
+    return;
+  }
+  window_->make_current();
+  glBindFramebuffer(GL_FRAMEBUFFER, panel_fbo_.get());
+  glViewport(0, 0, panel_w_, panel_h_);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_BLEND);
+  glUseProgram(lens_program_.get());
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, final_colour_.get());
+  // The composited eyes are sampled bilinearly here (the compositing passes only fetch texels).
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glBindVertexArray(lens_vao_.get());
+  glDrawElements(GL_TRIANGLES, lens_index_count_, GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  if (last_read_back_) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, panel_fbo_.get());
+    glPixelStorei(GL_PACK_ROW_LENGTH, panel.stride_bytes / 4);
+    glReadPixels(0, 0, panel_w_, panel_h_, GL_RGBA, GL_UNSIGNED_BYTE, panel.data.data());
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
 void GlCompositor::present() {
   window_->make_current();
   int fb_w = 0, fb_h = 0;
   window_->framebuffer_size(&fb_w, &fb_h);
+  const bool panel = lens_ != nullptr && lens_index_count_ > 0;
+  const int w = panel ? panel_w_ : target_w_, h = panel ? panel_h_ : target_h_;
   if (target_w_ > 0 && fb_w > 0 && fb_h > 0) {
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, final_fbo_.get());
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, panel ? panel_fbo_.get() : final_fbo_.get());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
     // Picture row 0 is framebuffer row 0; the window's row 0 is at the bottom: flip on blit.
-    glBlitFramebuffer(0, 0, target_w_, target_h_, 0, fb_h, fb_w, 0, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    glBlitFramebuffer(0, 0, w, h, 0, fb_h, fb_w, 0, GL_COLOR_BUFFER_BIT, GL_LINEAR);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
   }
   window_->swap_buffers();

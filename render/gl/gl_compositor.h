@@ -42,7 +42,22 @@ class GlCompositor final : public Compositor {
   /// strip's revision changes) and, if that draw read back, reads the viewport back into `out`.
   /// Nothing is drawn before the first draw() of `out`'s size.
   void draw_overlay(const Overlay& overlay, const Viewport& vp, ImageRgba8& out) override;
-  /// Blits the last picture to the window and swaps buffers.
+  /// The lens pass over each eye's half of the panel. By default (mesh step 0) a fragment pass:
+  /// each fragment evaluates the lens polynomial for its green sample point; with a mesh step N
+  /// a distortion mesh instead, one vertex every N panel px holding the green point
+  /// (lens::LensWarp::source), linearly interpolated (cheaper per fragment, but it leaves a
+  /// geometric error: bench/lens). Either way the shader scales the green point to R and B about
+  /// the eye's principal point (affine, so exact under interpolation too), samples the drawn
+  /// eyes GL_LINEAR clamped to the pixel's own eye, and blacks out beyond the usable radius,
+  /// computed per fragment. The panel target is panel-sized; present() shows it.
+  void set_lens(const lens::LensWarp* warp) override;
+  void predistort(const ImageRgba8& eyes, ImageRgba8& panel) override;
+  /// 0 (default): the exact fragment pass; N > 0: a distortion mesh with a vertex every N px.
+  /// Takes effect at the next set_lens.
+  void set_lens_mesh_step(int step_px) { lens_mesh_step_px_ = step_px < 0 ? 0 : step_px; }
+  /// Replaces the drawn picture by `picture` (passes after compositing, tested on their own).
+  void load_picture(const ImageRgba8& picture);
+  /// Blits the last picture (the panel's, with a lens) to the window and swaps buffers.
   void present() override;
   const CompositorStats& stats() const override { return stats_; }
 
@@ -109,6 +124,18 @@ class GlCompositor final : public Compositor {
   int hud_w_ = 0, hud_h_ = 0;
   uint64_t hud_uploads_ = 0;
   bool last_read_back_ = false;
+
+  // The lens pass (set_lens).
+  const lens::LensWarp* lens_ = nullptr;
+  int lens_mesh_step_px_ = 0;
+  gl::Program lens_program_;
+  gl::VertexArray lens_vao_;
+  gl::Buffer lens_vbo_;
+  gl::Buffer lens_ibo_;
+  int lens_index_count_ = 0;
+  gl::Texture panel_colour_;
+  gl::Framebuffer panel_fbo_;
+  int panel_w_ = 0, panel_h_ = 0;
   int u_lines_target_ = -1;
   int u_hud_origin_ = -1, u_hud_size_ = -1, u_hud_target_ = -1;
 

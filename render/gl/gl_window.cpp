@@ -62,8 +62,32 @@ Window::Window(const WindowOptions& o) {
     }
     monitor = monitors[o.monitor];
     const GLFWvidmode* mode = glfwGetVideoMode(monitor);
+    std::string note;
+    if (o.mode_width > 0 && o.mode_height > 0 &&
+        (mode->width != o.mode_width || mode->height != o.mode_height)) {
+      int n = 0;
+      const GLFWvidmode* modes = glfwGetVideoModes(monitor, &n);
+      const GLFWvidmode* best = nullptr;
+      for (int i = 0; i < n; ++i)
+        if (modes[i].width == o.mode_width && modes[i].height == o.mode_height &&
+            (!best || modes[i].refreshRate > best->refreshRate))
+          best = &modes[i];
+      if (best)
+        mode = best;
+      else
+        note = " (" + std::to_string(o.mode_width) + "x" + std::to_string(o.mode_height) +
+               " not offered: the current mode)";
+    }
     w = mode->width;
     h = mode->height;
+    glfwWindowHint(GLFW_REFRESH_RATE, mode->refreshRate);
+    const char* name = glfwGetMonitorName(monitor);
+    description_ = "monitor " + std::to_string(o.monitor) + " '" + (name ? name : "?") + "' " +
+                   std::to_string(w) + "x" + std::to_string(h) + " @ " +
+                   std::to_string(mode->refreshRate) + " Hz, fullscreen" + note;
+  } else {
+    description_ = std::string(o.headless ? "headless " : "window ") + std::to_string(w) + "x" +
+                   std::to_string(h);
   }
   window_ = glfwCreateWindow(w, h, o.title.c_str(), monitor, nullptr);
   if (window_ == nullptr) {

@@ -13,6 +13,10 @@ struct WindowOptions {
   bool headless = false;  ///< an invisible window: the context only, pictures are read back
   int monitor = -1;       ///< >= 0: fullscreen on this monitor (e.g. the HMD), else windowed
   bool vsync = true;      ///< swap interval 1 (Xvfb does not throttle; the loop paces itself)
+  /// Fullscreen: the video mode to ask for (an HMD's native panel mode), the highest refresh
+  /// rate of that size; 0 or no such mode: the monitor's current mode.
+  int mode_width = 0;
+  int mode_height = 0;
   std::string title = "hybrid-station";
 };
 
@@ -33,9 +37,13 @@ class Window {
   /// The default framebuffer's size in pixels.
   void framebuffer_size(int* width, int* height) const;
   GLFWwindow* handle() const { return window_; }
+  /// What it is on, for the start report: "monitor 1 'HDK' 1920x1080 @ 60 Hz, fullscreen" (with
+  /// a note when the requested mode was not offered), "window 1600x600" or "headless 1600x600".
+  const std::string& description() const { return description_; }
 
  private:
   GLFWwindow* window_ = nullptr;
+  std::string description_;
 };
 
 }  // namespace hd::render::gl

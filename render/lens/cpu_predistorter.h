@@ -25,7 +25,8 @@ namespace hd::render::lens {
 /// worker woken through an atomic.
 class CpuPredistorter {
  public:
-  CpuPredistorter(const LensWarp& warp, int threads = 1);
+  /// `simd`: use the AVX2 row kernel when the CPU has it (the same bytes as the scalar one).
+  CpuPredistorter(const LensWarp& warp, int threads = 1, bool simd = true);
   ~CpuPredistorter();
   CpuPredistorter(const CpuPredistorter&) = delete;
   CpuPredistorter& operator=(const CpuPredistorter&) = delete;
@@ -57,6 +58,7 @@ class CpuPredistorter {
   const ImageRgba8* eyes_ = nullptr;  ///< valid during apply only
   ImageRgba8* panel_ = nullptr;
 
+  bool simd_ = false;
   int threads_ = 1;
   std::thread worker_;
   std::atomic<uint64_t> job_{0};

@@ -216,7 +216,9 @@ HmdProfileError::HmdProfileError(const std::string& file, int line, int column, 
                                  const std::string& why)
     : std::runtime_error(message(file, line, column, field, why)),
       field_(std::move(field)),
-      line_(line) {}
+      why_(why),
+      line_(line),
+      column_(column) {}
 
 HmdProfile read_hmd_profile(const YAML::Node& node, const std::string& file) {
   return read(node, file);

@@ -19,11 +19,15 @@ class HmdProfileError : public std::runtime_error {
   HmdProfileError(const std::string& file, int line, int column, std::string field,
                   const std::string& why);
   const std::string& field() const { return field_; }
+  const std::string& why() const { return why_; }
   int line() const { return line_; }
+  int column() const { return column_; }
 
  private:
   std::string field_;
+  std::string why_;
   int line_ = 0;
+  int column_ = 0;
 };
 
 /// Reads and checks (check_profile) a profile file; any mistake -- unreadable file, YAML

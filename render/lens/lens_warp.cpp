@@ -93,6 +93,31 @@ double LensWarp::eye_fov_y_deg() const {
   return (std::atan(k.cy / k.fy) + std::atan((k.height - k.cy) / k.fy)) * 180.0 / kPi;
 }
 
+Viewport LensWarp::visible_rect(int eye) const {
+  const Eigen::Vector2d& lc = profile_.lens_centre_m[static_cast<std::size_t>(eye)];
+  const double x0 = lc.x() / profile_.pitch_x_m(), y0 = lc.y() / profile_.pitch_y_m();
+  const core::Pinhole& k = eye_[static_cast<std::size_t>(eye)];
+  // Farthest usable panel point along each axis direction, and where it samples (green).
+  double lo[2] = {k.cx, k.cy}, hi[2] = {k.cx, k.cy};
+  const double dirs[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+  for (const auto& d : dirs) {
+    for (double t = 0.0;; t += 1.0) {
+      const double x = x0 + d[0] * t, y = y0 + d[1] * t;
+      if (x < 0.5 || x > eye_panel_width() - 0.5 || y < 0.5 || y > panel_height() - 0.5) break;
+      double u = 0, v = 0;
+      if (!source(eye, x, y, 1, &u, &v)) break;
+      lo[0] = std::min(lo[0], u), hi[0] = std::max(hi[0], u);
+      lo[1] = std::min(lo[1], v), hi[1] = std::max(hi[1], v);
+    }
+  }
+  constexpr double kShrink = 0.7;
+  const int x_begin = static_cast<int>(std::ceil(k.cx - kShrink * (k.cx - lo[0])));
+  const int x_end = static_cast<int>(std::floor(k.cx + kShrink * (hi[0] - k.cx)));
+  const int y_begin = static_cast<int>(std::ceil(k.cy - kShrink * (k.cy - lo[1])));
+  const int y_end = static_cast<int>(std::floor(k.cy + kShrink * (hi[1] - k.cy)));
+  return {x_begin, y_begin, std::max(1, x_end - x_begin), std::max(1, y_end - y_begin)};
+}
+
 double LensWarp::radius(int eye, double x, double y) const {
   const Eigen::Vector2d& lc = profile_.lens_centre_m[static_cast<std::size_t>(eye)];
   const double qx = x * profile_.pitch_x_m() - lc.x();
@@ -101,16 +126,21 @@ double LensWarp::radius(int eye, double x, double y) const {
 }
 
 bool LensWarp::source(int eye, double x, double y, int channel, double* u, double* v) const {
+  if (profile_.max_radius > 0.0 && radius(eye, x, y) > profile_.max_radius) return false;
+  source_unclamped(eye, x, y, channel, u, v);
+  return true;
+}
+
+void LensWarp::source_unclamped(int eye, double x, double y, int channel, double* u,
+                                double* v) const {
   const Eigen::Vector2d& lc = profile_.lens_centre_m[static_cast<std::size_t>(eye)];
   const double qx = x * profile_.pitch_x_m() - lc.x();
   const double qy = y * profile_.pitch_y_m() - lc.y();
   const double r = std::hypot(qx / profile_.r_unit_m.x(), qy / profile_.r_unit_m.y());
-  if (profile_.max_radius > 0.0 && r > profile_.max_radius) return false;
   const double s = profile_.aberration[static_cast<std::size_t>(channel)] * poly_.ratio(r);
   const core::Pinhole& k = eye_[static_cast<std::size_t>(eye)];
   *u = k.cx + s * qx / eye_pitch_x_;
   *v = k.cy + s * qy / eye_pitch_y_;
-  return true;
 }
 
 }  // namespace hd::render::lens

@@ -4,6 +4,7 @@
 #include <array>
 
 #include "core/pinhole.h"
+#include "render/compositor/viewport.h"
 #include "render/lens/hmd_profile.h"
 #include "render/lens/radial_polynomial.h"
 
@@ -41,11 +42,18 @@ class LensWarp {
   /// Where the panel point (x, y) of eye i's half samples the eye image for channel c (0 R, 1 G,
   /// 2 B), in eye i's own image coordinates. False (and u, v untouched) outside the usable radius.
   bool source(int eye, double x, double y, int channel, double* u, double* v) const;
+  /// The same without the usable-radius test (the polynomial continued beyond it): for the
+  /// vertices of a distortion mesh whose triangles straddle the rim.
+  void source_unclamped(int eye, double x, double y, int channel, double* u, double* v) const;
 
   /// Green-relative scale of channel c: its sample lies at centre + scale * (green - centre).
   double channel_scale(int c) const {
     return profile_.aberration[static_cast<std::size_t>(c)] / profile_.aberration[1];
   }
+  /// The part of eye i's image (its own coordinates) comfortably seen through the lens: the
+  /// extent of the panel's usable axes through the lens centre, shrunk to 70 % about the
+  /// principal point (a rectangle inscribed in a disc spans 71 % of its axes). For the HUD.
+  Viewport visible_rect(int eye) const;
   /// The largest lens radius any panel pixel of either half has (before max_radius).
   double panel_max_radius() const { return panel_max_r_; }
 

@@ -38,6 +38,9 @@ void add_run_options(CLI::App& cmd, RunOptions& o) {
   cmd.add_option("--contact-tiles", o.contact_tiles, "Tiles on contact_sheet.png")
       ->check(CLI::Range(std::size_t{2}, std::size_t{48}));
   cmd.add_flag("--mono", o.mono, "One eye (a monitor) instead of a stereo HMD");
+  cmd.add_option("--hmd", o.hmd,
+                 "HMD profile: a shipped name (oculus-dk1, osvr-hdk-1.3, neutral) or a .yaml "
+                 "file; the eyes are pre-distorted for its lenses (docs/hmd.md)");
   cmd.add_option("--eye-width", o.eye_width, "Eye image width")->check(CLI::Range(16, 4096));
   cmd.add_option("--eye-height", o.eye_height, "Eye image height")->check(CLI::Range(16, 4096));
   cmd.add_option("--predictor", o.predictor, "none | cv | kalman")

@@ -22,6 +22,7 @@ struct RunOptions {
   uint64_t png_every = 0;  ///< 0 = no PNG frames
   std::size_t contact_tiles = 12;
   bool mono = false;
+  std::string hmd;  ///< an HMD profile (name or file) replacing the config's display.hmd
   int eye_width = 0, eye_height = 0;  ///< 0: config / scene hint / 480x400
   std::string predictor;              ///< "": the config's (kalman)
   double scanout_ms = -1.0;           ///< < 0: the config's (2 ms)

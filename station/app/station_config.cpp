@@ -2,7 +2,10 @@
 
 #include <filesystem>
 
+#include <yaml-cpp/yaml.h>
+
 #include "calib/calibration_file.h"
+#include "render/lens/hmd_profile_file.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/scene_file.h"
 #include "sim/scene/yaml_fields.h"
@@ -99,6 +102,23 @@ DisplayConfig read_display(const sim::YamlFields& f) {
   d.eye.fy = fy;
   d.eye.cx = cx;
   d.eye.cy = cy;
+  if (f.node()["hmd"]) {
+    // A name or file (resolved against this file's directory), or the profile inline.
+    const sim::YamlFields h = f.at("hmd");
+    try {
+      if (h.is_scalar()) {
+        const std::string base = std::filesystem::path(f.file()).parent_path().string();
+        d.hmd = render::lens::find_hmd_profile(h.as_string(), base);
+      } else {
+        d.hmd = render::lens::read_hmd_profile(h.node(), f.file());
+      }
+    } catch (const render::lens::HmdProfileError& e) {
+      if (h.is_scalar()) f.fail("hmd", e.what());
+      throw sim::ConfigError(f.file(), e.line(), e.column(), "display.hmd." + e.field(), e.why());
+    }
+    if (!d.hmd.neutral && !d.stereo)
+      f.fail("hmd", "the HMD profile '" + d.hmd.name + "' needs stereo: true (two eyes)");
+  }
   f.finish();
   return d;
 }

@@ -10,6 +10,7 @@
 #include "core/pose.h"
 #include "core/transition.h"
 #include "core/workspace_box.h"
+#include "render/lens/hmd_profile.h"
 #include "sim/scene/config_error.h"
 #include "sim/scene/scene.h"
 
@@ -51,6 +52,9 @@ struct DisplayConfig {
   core::Pinhole eye = core::Pinhole::centred(0.9 * 480, 480, 400);  ///< p_o per eye
   double rate_hz = 90.0;
   double scanout_ms = 2.0;
+  /// `hmd:` a shipped profile's name, a profile file, or an inline profile (docs/hmd.md). A
+  /// non-neutral profile sets the eyes (size, p_o) and the panel; none / neutral: as above.
+  render::lens::HmdProfile hmd = render::lens::HmdProfile::make_neutral();
 };
 
 struct ModelConfig {

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "recon/matcher_config.h"
+#include "render/lens/hmd_profile_file.h"
 
 namespace hd::station {
 namespace {
@@ -54,14 +55,37 @@ station::ModelStereoPair model_stereo_pair(const sim::SceneStereoPair& sp, std::
 void configure_frame(StationParts& p, DisplayConfig display, core::TransitionParams transition,
                      core::MarkingParams marking, const core::WorkspaceBox& workspace,
                      const std::string& predictor, const RunOptions& o) {
-  if (o.eye_width > 0 || o.eye_height > 0) {
+  if (!o.hmd.empty()) {
+    try {
+      display.hmd = render::lens::find_hmd_profile(o.hmd, "");
+    } catch (const render::lens::HmdProfileError& e) {
+      throw sim::ConfigError("--hmd", 0, 0, "", e.what());
+    }
+  }
+  if (o.mono && !display.hmd.neutral) {
+    p.report.note("hmd", "profile " + display.hmd.name + " not used: --mono (one eye)");
+    display.hmd = render::lens::HmdProfile::make_neutral();
+  }
+  if (o.mono) display.stereo = false;
+  std::shared_ptr<const render::lens::LensWarp> lens;
+  if (!display.hmd.neutral) {
+    // The lens decides the eyes: the size and field of view it needs (p_o, so E, W, C and m
+    // are computed for the view the operator sees), and the panel's own latency.
+    display.stereo = true;
+    lens = std::make_shared<render::lens::LensWarp>(display.hmd);
+    display.eye = lens->eye(0);
+    if (display.hmd.swap_to_photon_ms && o.scanout_ms < 0.0)
+      display.scanout_ms = *display.hmd.swap_to_photon_ms;
+    if (o.eye_width > 0 || o.eye_height > 0)
+      p.report.note("hmd", "--eye-width/--eye-height ignored: the lens sets the eye size");
+  }
+  if (!lens && (o.eye_width > 0 || o.eye_height > 0)) {
     const int w = o.eye_width > 0 ? o.eye_width : display.eye.width;
     const int h = o.eye_height > 0 ? o.eye_height : display.eye.height;
     // Keep the field of view: scale the focal lengths with the width.
     const double s = static_cast<double>(w) / display.eye.width;
     display.eye = core::Pinhole::centred(display.eye.fx * s, w, h);
   }
-  if (o.mono) display.stereo = false;
   if (o.rate_hz > 0.0) display.rate_hz = o.rate_hz;
   if (o.scanout_ms >= 0.0) display.scanout_ms = o.scanout_ms;
   if (o.m_t >= 0.0) transition.m_t = o.m_t;
@@ -80,6 +104,8 @@ void configure_frame(StationParts& p, DisplayConfig display, core::TransitionPar
     c.rig.eye = {display.eye, display.eye};
     c.rig.ipd_m = display.ipd_m;
   }
+  if (lens) c.rig.eye = {lens->eye(0), lens->eye(1)};  // mirrored lenses: own principal points
+  c.lens = lens;
   c.workspace = workspace;
   c.transition = transition;
   c.marking = marking;
@@ -99,6 +125,22 @@ void configure_frame(StationParts& p, DisplayConfig display, core::TransitionPar
                     : fmt("monitor (one eye), %gx%g px", display.eye.width, display.eye.height));
   p.report.note("eye intrinsics", fmt("fx %.1f fy %.1f", display.eye.fx, display.eye.fy) +
                                       fmt(" cx %.1f cy %.1f", display.eye.cx, display.eye.cy));
+  if (lens) {
+    const render::lens::HmdProfile& h = display.hmd;
+    p.report.note("hmd", h.name + " (" + h.source + ")");
+    p.report.note("hmd panel",
+                  fmt("%gx%g px, ", h.panel_width_px, h.panel_height_px) +
+                      fmt("%.4gx%.4g m, swap-to-photon ", h.panel_width_m, h.panel_height_m) +
+                      (h.swap_to_photon_ms ? fmt("%g ms (profile)", *h.swap_to_photon_ms)
+                                           : std::string("not in the profile")));
+    p.report.note("hmd eye image",
+                  fmt("%gx%g px per eye, field of view %.1f", lens->eye_width(), lens->eye_height(),
+                      lens->eye_fov_x_deg()) +
+                      fmt(" x %.1f deg, pre-distorted R/G/B scale %.4f / 1 / %.4f",
+                          lens->eye_fov_y_deg(), lens->channel_scale(0), lens->channel_scale(2)));
+  } else {
+    p.report.note("hmd", "none (neutral: no lens, nothing pre-distorted)");
+  }
   p.report.note("transition", std::string(transition_mode_name(transition.mode)) +
                                   fmt(", m_t %g px, eps %g px", transition.m_t, transition.eps) +
                                   fmt(", hysteresis %g px, time constant %g s",

@@ -140,8 +140,12 @@ int run(const RunOptions& o) {
   std::string compositor_name;
   if (o.gl || windowed) {
     render::gl::WindowOptions wo;
-    wo.width = p.frame_config.rig.output_width();
-    wo.height = p.frame_config.rig.output_height();
+    wo.width = p.frame_config.picture_width();
+    wo.height = p.frame_config.picture_height();
+    if (p.frame_config.lens) {  // the HMD's own display: its native panel mode
+      wo.mode_width = p.frame_config.lens->panel_width();
+      wo.mode_height = p.frame_config.lens->panel_height();
+    }
     wo.headless = o.headless;
     wo.monitor = windowed ? p.monitor : -1;
     std::unique_ptr<render::GlCompositor> glc;
@@ -161,6 +165,7 @@ int run(const RunOptions& o) {
   std::printf("  compositor       %s, %s\n", compositor_name.c_str(),
               windowed ? (p.monitor >= 0 ? "fullscreen" : "windowed; keys: R re-centre, Esc/Q quit")
                        : "headless");
+  if (gl) std::printf("  display          %s\n", gl->window().description().c_str());
   if (o.frames)
     std::printf("  run              %" PRIu64 " frames\n", o.frames);
   else if (seconds > 0.0)
@@ -177,8 +182,8 @@ int run(const RunOptions& o) {
                               clock, latency);
   if (p.updater) frame.set_model_updater(p.updater.get());
   FrameLog log(log_rows);
-  const int width = p.frame_config.rig.output_width();
-  ThumbnailSet thumbs(96, std::min(width, 320), width, p.frame_config.rig.output_height(),
+  const int width = p.frame_config.picture_width();
+  ThumbnailSet thumbs(96, std::min(width, 320), width, p.frame_config.picture_height(),
                       std::max<uint64_t>(1, static_cast<uint64_t>(expected_frames / 96.0)));
   FrameRecorderOptions ro;
   ro.video_path = o.video_path;
@@ -186,7 +191,7 @@ int run(const RunOptions& o) {
   ro.png_every = o.png_every;
   ro.png_dir = o.out_dir;
   ro.thumbnails = &thumbs;
-  FrameRecorder recorder(width, p.frame_config.rig.output_height(), ro);
+  FrameRecorder recorder(width, p.frame_config.picture_height(), ro);
   RunWork work(frame, latency, log, recorder, o.warmup);
   render::FrameLoop loop(
       render::FrameLoopConfig{p.rate_hz, static_cast<int64_t>(p.scanout_ms * 1e6), true}, clock);

@@ -28,7 +28,16 @@ StationFrame::StationFrame(StationFrameConfig config,
       has_frame_(cameras.size(), 0),
       fetched_(cameras.size(), 0) {
   out_.allocate(config_.rig.output_width(), config_.rig.output_height());
-  hud_ = render::HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24));
+  if (config_.lens) {
+    // The HUD goes where the eye sees it through the lens, not at the image's (black) corner.
+    panel_.allocate(config_.lens->panel_width(), config_.lens->panel_height());
+    hud_viewport_ = config_.lens->visible_rect(0);
+    hud_ = render::HudStrip(hud_viewport_.width, std::max(18, hud_viewport_.height / 16), 3);
+    compositor_.set_lens(config_.lens.get());
+  } else {
+    hud_ =
+        render::HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24), 3);
+  }
   for (const drivers::CalibratedCamera& c : cameras_)
     guidance_cameras_.push_back({c.p_c, c.T_world_real, c.d_m});
   rows_.reserve(config_.max_rows);
@@ -119,7 +128,7 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     ov.eye = req.eye;
     ov.T_world_eye = req.T_world_eye;
     ov.near_m = req.near_m;
-    ov.hud = e == 0 ? &hud_ : nullptr;
+    ov.hud = e == 0 && !config_.lens ? &hud_ : nullptr;
     if (cue.active) {
       ov.cue = e == 0 ? cue
                       : guidance_toward_nearest(
@@ -128,7 +137,14 @@ void StationFrame::tick(const render::FrameTiming& timing) {
       ov.cue.camera = cue.camera;
     }
     if (!ov.empty()) compositor_.draw_overlay(ov, req.viewport, out_);
+    if (config_.lens && e == 0 && !hud_.empty()) {
+      render::Overlay hud_only;
+      hud_only.eye = req.eye;
+      hud_only.hud = &hud_;
+      compositor_.draw_overlay(hud_only, hud_viewport_, out_);
+    }
   }
+  if (config_.lens) compositor_.predistort(out_, panel_);
   const int64_t render_end_ns = clock_.now_ns();
   compositor_.present();
   const int64_t swap_ns = clock_.now_ns();

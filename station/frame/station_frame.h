@@ -3,6 +3,7 @@
 // camera and eye, camera choice, transition, compositing, guidance, latency record.
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "drivers/pose_source.h"
 #include "render/compositor/compositor.h"
 #include "render/latency/latency_recorder.h"
+#include "render/lens/lens_warp.h"
 #include "render/loop/frame_loop.h"
 #include "render/overlay/guidance_cue.h"
 #include "render/overlay/hud_strip.h"
@@ -36,6 +38,13 @@ struct StationFrameConfig {
   core::MarkingParams marking;
   bool draw_guidance = true;
   std::size_t max_rows = 100'000;  ///< per-frame rows kept (preallocated)
+  /// The HMD's lens (null: none, a monitor or the neutral profile): the eyes are pre-distorted
+  /// into the panel's picture, which is what image() and the display show.
+  std::shared_ptr<const render::lens::LensWarp> lens;
+
+  /// The picture the station shows: the panel with a lens, else the eyes side by side.
+  int picture_width() const { return lens ? lens->panel_width() : rig.output_width(); }
+  int picture_height() const { return lens ? lens->panel_height() : rig.output_height(); }
 };
 
 /// What was decided in one frame (one CSV row of the run command).
@@ -72,7 +81,9 @@ class StationFrame final : public render::FrameWork {
   void set_hud_text(std::string_view text) { hud_.set_text(text); }
   const render::HudStrip& hud() const { return hud_; }
 
-  const render::ImageRgba8& image() const { return out_; }
+  /// What is shown: the panel's picture with a lens, else the eyes' (eyes_image()).
+  const render::ImageRgba8& image() const { return config_.lens ? panel_ : out_; }
+  const render::ImageRgba8& eyes_image() const { return out_; }
   const std::vector<FrameRow>& rows() const { return rows_; }
   uint64_t rows_dropped() const { return rows_dropped_; }
   /// The newest frame's row, kept even when rows() is full (max_rows = 0 keeps none: a caller
@@ -98,8 +109,10 @@ class StationFrame final : public render::FrameWork {
   CameraSelector selector_;
   PoseHistory history_;
   render::ImageRgba8 out_;
+  render::ImageRgba8 panel_;  ///< allocated with a lens only
   render::HudStrip hud_;
-  std::vector<double> m_camera_;            ///< worse-eye m per camera
+  render::Viewport hud_viewport_{};  ///< with a lens: eye 0's visible part, in the eyes' picture
+  std::vector<double> m_camera_;     ///< worse-eye m per camera
   std::vector<core::ViewMeasure> measure_;  ///< [camera * 2 + eye]
   std::vector<uint8_t> has_frame_;
   std::vector<uint64_t> fetched_;

@@ -71,6 +71,20 @@ TEST(CpuPredistorter, TableMatchesPerPixelEvaluation) {
   EXPECT_EQ(a.pixel(0, 0)[3], 255);
 }
 
+TEST(CpuPredistorter, RowKernelGivesTheScalarBytes) {
+  HmdProfile p = load_hmd_profile(kDir + "osvr-hdk-1.3.yaml");
+  p.aberration = {0.985, 1.0, 1.015};  // R and B off green: every path of the kernel
+  const LensWarp w(p);
+  const ImageRgba8 eyes = eyes_picture(w, true);
+  ImageRgba8 a, b;
+  a.allocate(w.panel_width(), w.panel_height());
+  b.allocate(w.panel_width(), w.panel_height());
+  CpuPredistorter simd(w, 2, true), scalar(w, 1, false);
+  ASSERT_TRUE(simd.apply(eyes, a));
+  ASSERT_TRUE(scalar.apply(eyes, b));
+  EXPECT_EQ(a.data, b.data);
+}
+
 TEST(CpuPredistorter, ApplyAllocatesNothingAndRefusesWrongSizes) {
   const LensWarp w(load_hmd_profile(kDir + "osvr-hdk-1.3.yaml"));
   CpuPredistorter pd(w, 2);
