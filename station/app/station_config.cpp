@@ -30,6 +30,8 @@ CameraConfig read_camera(const sim::YamlFields& f, std::size_t index) {
   if (c.id.empty()) f.fail("id", "empty; expected /dev/videoN, a GigE id or mock[:WxH]");
   c.calibration_file = f.required_path("calibration");
   c.d_m = f.required_double("d_m", Range::positive());
+  c.max_video_age_ms =
+      f.optional_double("max_video_age_ms", 0.0, Range{0.0, 60'000.0, true, false});
   c.optional = f.optional_bool("optional", false);
   std::optional<core::Pose> pose_override;
   if (auto p = f.optional_map("pose")) pose_override = read_pose(*p);
