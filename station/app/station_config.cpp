@@ -121,6 +121,17 @@ core::MarkingParams read_marking(const sim::YamlFields& f) {
   m.checker_cell_px = f.optional_int("checker_cell_px", m.checker_cell_px, Range::closed(1, 1024));
   m.checker_contrast =
       f.optional_double("checker_contrast", m.checker_contrast, Range::closed(0.0, 1.0));
+  m.model_age_fresh_ms =
+      f.optional_double("model_age_fresh_ms", m.model_age_fresh_ms, Range::non_negative());
+  m.model_age_full_ms =
+      f.optional_double("model_age_full_ms", m.model_age_full_ms, Range::non_negative());
+  if (m.model_age_full_ms < m.model_age_fresh_ms)
+    f.fail("model_age_full_ms", "must be >= model_age_fresh_ms");
+  m.stale_fade_max = f.optional_double("stale_fade", m.stale_fade_max, Range::closed(0.0, 1.0));
+  m.stale_checker_contrast = f.optional_double("stale_checker_contrast", m.stale_checker_contrast,
+                                               Range::closed(0.0, 1.0));
+  m.video_age_warn_ms =
+      f.optional_double("video_age_warn_ms", m.video_age_warn_ms, Range::non_negative());
   f.finish();
   return m;
 }

@@ -134,6 +134,16 @@ void StationFrame::tick(const render::FrameTiming& timing) {
   if (config_.draw_guidance && ts.w_video <= 0.0)
     cue = guidance_toward_nearest(rig.eye[0], rig.T_world_eye(T_world_head, 0), guidance_cameras_);
 
+  // The staleness cue: the model fades with its age, video past 3/4 of its bound is framed.
+  const double shown_age_s = shown_ >= 0 ? age_s_[static_cast<std::size_t>(shown_)] : NAN;
+  const bool video_stale =
+      shown_ >= 0 && ts.w_video > 0.0 &&
+      !(shown_age_s <= (config_.marking.video_age_warn_ms > 0.0
+                            ? 1e-3 * config_.marking.video_age_warn_ms
+                            : 0.75 * max_age_s_[static_cast<std::size_t>(shown_)]));
+  const core::MarkingParams marking =
+      config_.marking.for_ages(1e3 * core::age_s(model_capture_ns, timing.display_ns), video_stale);
+
   const int64_t render_start_ns = clock_.now_ns();
   const drivers::Frame* video = nullptr;
   if (shown_ >= 0) video = &cameras_[static_cast<std::size_t>(shown_)].source->frames().latest();
@@ -156,7 +166,7 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     }
     req.transition = ts;
     req.mode = config_.transition.mode;
-    req.marking = config_.marking;
+    req.marking = marking;
     req.viewport = rig.viewport(e);
     compositor_.draw(req, out_);
     // Ghost frustum + arrow toward eye 0's nearest camera, seen from this eye; HUD on eye 0.
