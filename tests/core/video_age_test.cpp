@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/marking.h"
 #include "core/transition.h"
 
 namespace hd::core {
@@ -106,6 +107,25 @@ TEST(VideoAge, ACapOfOneOrNanChangesNothing) {
     EXPECT_EQ(b.update(m, 0.011, 1.0).w_video, wa);
     EXPECT_EQ(c.update(m, 0.011, NAN).w_video, wa);
   }
+}
+
+// The staleness cue's parameters: none for fresh data or an unknown age, linear in between,
+// the checker contrast growing, nothing for the unmarked style.
+TEST(StalenessCue, FadeGrowsLinearlyWithModelAgeAndIsZeroWhenFresh) {
+  MarkingParams m;  // desaturate; fresh 2 s, full 10 s, fade 0.6
+  EXPECT_EQ(m.for_ages(1999.0, false).synthetic_fade, 0.0);
+  EXPECT_EQ(m.for_ages(NAN, false).synthetic_fade, 0.0);
+  EXPECT_NEAR(m.for_ages(6000.0, false).synthetic_fade, 0.3, 1e-12);
+  EXPECT_NEAR(m.for_ages(10000.0, false).synthetic_fade, 0.6, 1e-12);
+  EXPECT_NEAR(m.for_ages(60000.0, false).synthetic_fade, 0.6, 1e-12);
+  EXPECT_TRUE(m.for_ages(0.0, true).video_stale);
+  EXPECT_FALSE(m.for_ages(0.0, false).video_stale);
+  m.style = MarkingStyle::kChecker;
+  EXPECT_DOUBLE_EQ(m.for_ages(1000.0, false).checker_contrast, 0.25);
+  EXPECT_NEAR(m.for_ages(6000.0, false).checker_contrast, 0.25 + 0.5 * 0.35, 1e-12);
+  m.style = MarkingStyle::kNone;
+  EXPECT_EQ(m.for_ages(60000.0, true).synthetic_fade, 0.0);
+  EXPECT_FALSE(m.for_ages(60000.0, true).video_stale);
 }
 
 }  // namespace

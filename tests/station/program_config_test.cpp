@@ -188,6 +188,10 @@ std::vector<Broken> broken_snippets() {
       {"bad predictor", "predictor", cam + tail + "predictor: magic   # <-\n"},
       {"max_video_age_ms zero", "cameras[0].max_video_age_ms",
        cam + "    max_video_age_ms: 0   # <-\n" + tail},
+      {"model ages the wrong way round", "marking.model_age_full_ms",
+       cam + tail + "marking:\n  model_age_fresh_ms: 500\n  model_age_full_ms: 400   # <-\n"},
+      {"stale fade out of range", "marking.stale_fade",
+       cam + tail + "marking: {stale_fade: 2}   # <-\n"},
       {"max_video_age_ms not a number", "cameras[0].max_video_age_ms",
        cam + "    max_video_age_ms: soon   # <-\n" + tail},
   };
