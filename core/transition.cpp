@@ -15,7 +15,7 @@ void Transition::reset() {
   w_ = 0.0;
 }
 
-TransitionState Transition::update(double m, double dt_s) {
+TransitionState Transition::update(double m, double dt_s, double w_cap) {
   if (std::isnan(m)) m = std::numeric_limits<double>::infinity();
   const double h = std::isfinite(p_.hysteresis) && p_.hysteresis > 0.0 ? p_.hysteresis : 0.0;
   if (p_.mode == TransitionMode::kAbrupt) {
@@ -29,7 +29,7 @@ TransitionState Transition::update(double m, double dt_s) {
       abrupt_video_ = true;
     }
     started_ = true;
-    w_ = abrupt_video_ ? 1.0 : 0.0;
+    w_ = abrupt_video_ && !(w_cap < 1.0) ? 1.0 : 0.0;
   } else {
     const double target = video_weight(m, p_.m_t, p_.eps);
     const double tau = p_.time_constant_s;
@@ -40,6 +40,7 @@ TransitionState Transition::update(double m, double dt_s) {
       w_ += (target - w_) * alpha;
       if (std::abs(target - w_) < kTransitionSnap) w_ = target;
     }
+    if (w_cap < w_) w_ = w_cap <= kTransitionSnap ? 0.0 : w_cap;  // false for NaN
     started_ = true;
   }
   const Variant v =

@@ -36,7 +36,11 @@ inline constexpr double kTransitionSnap = 1.0 / 512.0;
 class Transition {
  public:
   explicit Transition(TransitionParams p);
-  TransitionState update(double m, double dt_s);
+  TransitionState update(double m, double dt_s) { return update(m, dt_s, 1.0); }
+  /// The same with the video weight held at or below `w_cap` (core/video_age.h's age cap):
+  /// the smoothed weight itself is lowered, so video that comes back fades in from there. The
+  /// abrupt mode shows video only with w_cap >= 1. w_cap >= 1 (or NaN) changes nothing.
+  TransitionState update(double m, double dt_s, double w_cap);
   void reset();
   const TransitionParams& params() const { return p_; }
 

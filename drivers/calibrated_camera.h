@@ -15,6 +15,9 @@ struct CalibratedCamera {
   core::Pinhole p_c;
   core::Pose T_world_real;
   double d_m = 1.0;  ///< distance of the video quad's plane along the camera's z axis
+  /// Video older than this at the display time is not shown as live (core/video_age.h);
+  /// <= 0: core::default_max_video_age_s of an unknown rate (100 ms).
+  double max_video_age_s = 0.0;
 };
 
 }  // namespace hd::drivers

@@ -186,6 +186,7 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
   blend.checker = checker;
   blend.checker_step = checker_step;
   blend.checker_cell_px = cell;
+  blend.fade = static_cast<float>(mark.synthetic_fade);
   if (!any_video) std::fill(vid_group, vid_group + group, 0u);
 
   RowWarp rw;
@@ -288,8 +289,10 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
       blend.checker_row = y / cell;
       blend_row_sse2(blend, 0, W, srow, drow, any_video ? sa : nullptr, vid, orow);
       // The variant's coloured frame is painted last, over video and model alike.
-      if (mark.style == core::MarkingStyle::kFrame && mark.frame_width_px > 0) {
-        const core::Rgb& fc = mark.frame_colour(req.transition.variant);
+      // Video past its age bound recolours the frame (and draws one in every other style).
+      const bool stale = mark.video_stale && mark.style != core::MarkingStyle::kNone;
+      if ((mark.style == core::MarkingStyle::kFrame || stale) && mark.frame_width_px > 0) {
+        const core::Rgb& fc = stale ? mark.stale_rgb : mark.frame_colour(req.transition.variant);
         const int fw = mark.frame_width_px;
         const int H_vp = req.viewport.height;
         const bool full_row = y < fw || y >= H_vp - fw;

@@ -51,6 +51,8 @@ inline void blend_pixel(const RowBlend& b, int x0, int x, const uint8_t* synth, 
         (((x0 + x) / b.checker_cell_px + b.checker_row) & 1) ? -b.checker_step : b.checker_step;
     for (int c = 0; c < 3; ++c) s[c] = std::clamp(s[c] + step, 0.0f, 255.0f);
   }
+  if (b.fade > 0.0f)
+    for (int c = 0; c < 3; ++c) s[c] += b.fade * (128.0f - s[c]);
   const float av = a ? a[x] : 0.0f;
   uint8_t* o = out + 4 * x;
   for (int c = 0; c < 3; ++c) {
@@ -211,6 +213,10 @@ void blend_row_sse2(const RowBlend& b, int x0, int n, const uint8_t* synth, cons
       }
       const __m128 step = _mm_loadu_ps(st);
       for (auto& sc : s) sc = _mm_min_ps(_mm_max_ps(_mm_add_ps(sc, step), zero), top);
+    }
+    if (b.fade > 0.0f) {
+      const __m128 fade = _mm_set1_ps(b.fade), mid = _mm_set1_ps(128.0f);
+      for (auto& sc : s) sc = _mm_add_ps(sc, _mm_mul_ps(fade, _mm_sub_ps(mid, sc)));
     }
     __m128i o = alpha;
     for (int c = 0; c < 3; ++c) {

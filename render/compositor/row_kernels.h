@@ -39,6 +39,7 @@ struct RowBlend {
   float checker_step = 0;
   int checker_cell_px = 1;
   int checker_row = 0;  ///< y / cell of this row
+  float fade = 0;       ///< then s += fade (128 - s): the staleness cue (0: none, s untouched)
 };
 
 /// out pixel x (packed RGBA, alpha 255) = round(s + a (v - s)) per channel, in float exactly as

@@ -58,8 +58,10 @@ uniform int nearest;
 uniform int style;  // 0 none, 1 frame, 2 desaturate, 3 checker
 uniform float desat;
 uniform float checker_step;
+uniform float fade;
 uniform int cell;
 uniform int frame_w;
+uniform int stale;  // video past its age bound: the frame is drawn in every style
 uniform vec3 frame_rgb;
 out vec4 colour;
 
@@ -88,6 +90,7 @@ void main() {
     float step = (((e.x / cell + e.y / cell) & 1) != 0) ? -checker_step : checker_step;
     s = clamp(s + step, 0.0, 255.0);
   }
+  if (fade > 0.0) s += fade * (vec3(128.0) - s);
   float a = 0.0;
   vec3 v = vec3(0.0);
   if (video_on != 0) {
@@ -115,7 +118,7 @@ void main() {
     }
   }
   vec3 o = s + a * (v - s);
-  if (style == 1 && frame_w > 0 &&
+  if ((style == 1 || (stale != 0 && style != 0)) && frame_w > 0 &&
       (e.x < frame_w || e.y < frame_w || e.x >= vp_size.x - frame_w || e.y >= vp_size.y - frame_w)) {
     o = frame_rgb;
   }
@@ -297,7 +300,7 @@ GlCompositor::GlCompositor(const gl::WindowOptions& options)
   cu_ = {loc("synth"),   loc("video"),     loc("vp_origin"), loc("vp_size"),    loc("video_on"),
          loc("H"),       loc("inv_depth"), loc("inv_near"),  loc("video_size"), loc("per_pixel"),
          loc("w_video"), loc("nearest"),   loc("style"),     loc("desat"),      loc("checker_step"),
-         loc("cell"),    loc("frame_w"),   loc("frame_rgb")};
+         loc("cell"),    loc("frame_w"),   loc("frame_rgb"), loc("fade"),       loc("stale")};
   glUseProgram(c);
   glUniform1i(cu_.synth, 0);
   glUniform1i(cu_.video, 1);
@@ -584,7 +587,10 @@ void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   glUniform1f(cu_.checker_step, static_cast<float>(0.5 * mark.checker_contrast * 255.0));
   glUniform1i(cu_.cell, mark.checker_cell_px);
   glUniform1i(cu_.frame_w, mark.frame_width_px);
-  const core::Rgb& fc = mark.frame_colour(req.transition.variant);
+  glUniform1f(cu_.fade, static_cast<float>(mark.synthetic_fade));
+  glUniform1i(cu_.stale, mark.video_stale ? 1 : 0);
+  const core::Rgb& fc =
+      mark.video_stale ? mark.stale_rgb : mark.frame_colour(req.transition.variant);
   glUniform3f(cu_.frame_rgb, fc.r, fc.g, fc.b);
   glBindVertexArray(empty_vao_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -143,7 +143,8 @@ class GlCompositor final : public Compositor {
   int u_world_to_clip_ = -1;
   struct CompositeUniforms {
     int synth, video, vp_origin, vp_size, video_on, H, inv_depth, inv_near, video_size;
-    int per_pixel, w_video, nearest, style, desat, checker_step, cell, frame_w, frame_rgb;
+    int per_pixel, w_video, nearest, style, desat, checker_step, cell, frame_w, frame_rgb, fade,
+        stale;
   } cu_{};
 };
 

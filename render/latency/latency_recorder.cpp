@@ -77,17 +77,19 @@ std::string_view LatencyRecorder::hud_line() const {
     return hud_.data();
   }
   const LatencyRecord& r = at(count_ - 1);
-  int64_t swap = 0, disp = 0, age = 0;
+  int64_t swap = 0, disp = 0, age = 0, model = 0;
   const bool has_swap = latency_of(r, LatencyMetric::kMotionToSwap, swap);
   const bool has_disp = latency_of(r, LatencyMetric::kMotionToDisplay, disp);
   const bool has_age = latency_of(r, LatencyMetric::kVideoAge, age);
+  const bool has_model = latency_of(r, LatencyMetric::kModelAge, model);
   const LatencyStats p_disp = stats_over(LatencyMetric::kMotionToDisplay, 128);
   std::snprintf(hud_.data(), hud_.size(),
                 "frame %" PRIu64
                 " | MTP swap %.1f ms | MTP display %.1f ms (p95 %.1f) | video age %s%.1f ms | "
-                "missed %" PRIu64,
+                "model age %s%.0f ms | missed %" PRIu64,
                 r.frame, has_swap ? swap * 1e-6 : 0.0, has_disp ? disp * 1e-6 : 0.0, p_disp.p95_ms,
-                has_age ? "" : "n/a ", has_age ? age * 1e-6 : 0.0, missed_);
+                has_age ? "" : "n/a ", has_age ? age * 1e-6 : 0.0, has_model ? "" : "n/a ",
+                has_model ? model * 1e-6 : 0.0, missed_);
   return hud_.data();
 }
 

@@ -72,6 +72,9 @@ struct SceneCamera {
   double rate_hz = 30.0;
   double d_m = 1.0;              ///< the plane distance the station projects this camera's video on
   std::string calibration_file;  ///< when given as `calibration:` ("" = inline)
+  /// Video older than this at the display time is not shown as live (core/video_age.h);
+  /// 0: the default, core::default_max_video_age_s of rate_hz plus the scene's known delays.
+  double max_video_age_ms = 0.0;
 };
 
 /// The operator's head (tracker frame = world frame): a CSV trajectory or scripted keyframes.

@@ -120,6 +120,8 @@ SceneCamera read_camera(const YamlFields& c) {
   if (cam.name.empty()) c.fail("name", "a camera needs a name");
   cam.rate_hz = c.optional_double("rate_hz", cam.rate_hz, Range{0.0, 1000.0, true, false});
   cam.d_m = c.required_double("d_m", Range::positive());
+  cam.max_video_age_ms =
+      c.optional_double("max_video_age_ms", 0.0, Range{0.0, 60'000.0, true, false});
   bool have_pose = false;
   if (c.has("calibration")) {
     if (c.has("intrinsics")) c.fail("intrinsics", "give either calibration or intrinsics");

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "calib/camera_factory.h"
+#include "core/video_age.h"
 #include "drivers/camera_format.h"
 #include "drivers/hid/hid_head_tracker.h"
 #include "drivers/hid/hidapi_transport.h"
@@ -153,13 +154,18 @@ void add_cameras(StationParts& p, const StationConfig& config) {
         got.delivered.known() ? drivers::format_text(got.delivered)
                               : "size unknown until the first frame (" +
                                     drivers::size_text(cc.p_c.width, cc.p_c.height) + " expected)";
+    const double max_age_s = cc.max_video_age_ms > 0.0
+                                 ? 1e-3 * cc.max_video_age_ms
+                                 : core::default_max_video_age_s(got.delivered.frame_rate_hz);
     p.report.opened("camera", label,
                     delivered + (got.detail.empty() ? "" : " (" + got.detail + ")") +
                         ", calibration " + cc.calibration_file +
                         fmt(", centre (%.2f, %.2f, %.2f) m", c.x(), c.y(), c.z()) +
                         fmt(", d = %g m", cc.d_m) +
-                        (pipe->undistorting() ? ", undistorted" : ", no distortion"));
-    p.cameras.push_back({pipe.get(), cc.p_c, cc.T_world_cam, cc.d_m});
+                        (pipe->undistorting() ? ", undistorted" : ", no distortion") +
+                        fmt(", live while under %.0f ms old", 1e3 * max_age_s) +
+                        (cc.max_video_age_ms > 0.0 ? "" : " (3 frame periods, >= 100 ms)"));
+    p.cameras.push_back({pipe.get(), cc.p_c, cc.T_world_cam, cc.d_m, max_age_s});
     p.camera_names.push_back(cc.name);
     p.devices.push_back(std::move(device));
     p.pipelines.push_back(std::move(pipe));

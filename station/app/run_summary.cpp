@@ -55,6 +55,17 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  n.camera.c_str(), n.packets, n.malformed, n.security.c_str(), n.srtp_rejected,
                  n.frames_stamped, n.frames_unstamped, n.pli_sent, n.nack_sent,
                  n.last_error.empty() ? "" : "; last error: ", n.last_error.c_str());
+  for (std::size_t i = 0; i < s.camera_unusable.size() && i < s.camera_names.size(); ++i) {
+    double total_s = 0.0;
+    for (const UnusableInterval& u : s.camera_unusable[i])
+      total_s += (u.to_s >= 0.0 ? u.to_s : s.seconds) - u.from_s;
+    if (!s.camera_unusable[i].empty())
+      std::fprintf(out, "  camera %-20s unusable %zu times, %.2f s in all (video withheld)\n",
+                   s.camera_names[i].c_str(), s.camera_unusable[i].size(), total_s);
+  }
+  std::fprintf(out,
+               "  frames with a camera's video withheld as too old or not streaming: %" PRIu64 "\n",
+               s.frames_stale_blocked);
   if (!s.camera_events.empty())
     std::fprintf(out, "  camera format events: %zu\n", s.camera_events.size());
   for (const CameraEventRecord& e : s.camera_events)
@@ -96,12 +107,27 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
   j["guidance_frames"] = s.guidance_frames;
   j["camera_switches"] = s.camera_switches;
   nlohmann::json cams = nlohmann::json::array();
-  for (std::size_t i = 0; i < s.camera_names.size(); ++i)
+  for (std::size_t i = 0; i < s.camera_names.size(); ++i) {
+    nlohmann::json unusable = nlohmann::json::array();
+    if (i < s.camera_unusable.size())
+      for (const UnusableInterval& u : s.camera_unusable[i])
+        unusable.push_back(
+            {{"from_s", u.from_s},
+             {"to_s", u.to_s >= 0.0 ? nlohmann::json(u.to_s) : nlohmann::json()},
+             {"from_frame", u.from_frame},
+             {"to_frame", u.to_s >= 0.0 ? nlohmann::json(u.to_frame) : nlohmann::json()},
+             {"video_age_ms", u.age_at_start_ms},
+             {"first_new_frame_ns", u.first_new_frame_ns},
+             {"usable_again_display_ns", u.to_display_ns},
+             {"state", u.state}});
     cams.push_back({{"name", s.camera_names[i]},
                     {"frames_shown", s.camera_frames_shown[i]},
                     {"frames_lost", s.camera_frames_lost[i]},
-                    {"frames_rejected", s.camera_frames_rejected[i]}});
+                    {"frames_rejected", s.camera_frames_rejected[i]},
+                    {"unusable_intervals", unusable}});
+  }
   j["cameras"] = cams;
+  j["frames_stale_blocked"] = s.frames_stale_blocked;
   nlohmann::json events = nlohmann::json::array();
   for (const CameraEventRecord& e : s.camera_events)
     events.push_back({{"camera", e.camera},

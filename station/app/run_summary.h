@@ -9,6 +9,7 @@
 
 #include "render/latency/latency_recorder.h"
 #include "station/app/camera_events.h"
+#include "station/app/usability_log.h"
 
 namespace hd::station {
 
@@ -37,6 +38,10 @@ struct RunSummary {
     std::string last_error;
   };
   std::vector<NetworkCamera> network_cameras;
+  /// Per camera: the stretches in which its video was withheld (too old, source not streaming).
+  std::vector<std::vector<UnusableInterval>> camera_unusable;
+  /// Frames in which some camera's video was withheld for its age or its source's state.
+  uint64_t frames_stale_blocked = 0;
   uint64_t pose_accepted = 0, pose_rejected = 0;
   uint64_t recentres = 0, tracker_resets = 0;
   uint64_t model_updates = 0;

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/video_age.h"
 #include "station/app/station_parts.h"
 
 namespace hd::station {
@@ -45,6 +46,10 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
   p->simulation = std::make_unique<sim::Simulation>(std::move(scene));
   sim::Simulation& sim = *p->simulation;
   const auto& staleness = sim.model_staleness();
+  // What the scene's own effects add to every frame's age: a real site knows its link's delay.
+  double known_delay_s = 0.0;
+  for (const auto& d : {sim.scene().effects.camera_delay, sim.scene().effects.network_delay})
+    if (d) known_delay_s += 1e-3 * (d->mean_ms + 3.0 * d->jitter_ms);
 
   const bool ground_truth = sim.scene().model.moved_objects == sim::MovedObjects::kGroundTruth;
   const std::vector<sim::SceneStereoPair> stereo =
@@ -73,14 +78,19 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
       continue;
     }
     const Eigen::Vector3d& c = sim_cams[i].T_world_real.t;
+    const double max_age_s = sc.max_video_age_ms > 0.0
+                                 ? 1e-3 * sc.max_video_age_ms
+                                 : core::default_max_video_age_s(sc.rate_hz, known_delay_s);
     p->report.opened(
         "camera", id,
         fmt("simulated %gx%g RGBA8 at %g Hz, ", pc.p_c.width, pc.p_c.height, sc.rate_hz) +
             fmt("centre (%.2f, %.2f, %.2f) m, d = %g m", c.x(), c.y(), c.z(), sim_cams[i].d_m) +
             (pipe->undistorting() ? ", undistorted by the pipeline" : "") +
-            (sc.calibration_file.empty() ? "" : ", calibration " + sc.calibration_file));
+            (sc.calibration_file.empty() ? "" : ", calibration " + sc.calibration_file) +
+            fmt(", live while under %.0f ms old", 1e3 * max_age_s));
     drivers::CalibratedCamera cam = sim_cams[i];
     cam.source = pipe.get();
+    cam.max_video_age_s = max_age_s;
     p->cameras.push_back(cam);
     p->camera_names.push_back(id);
     opened_names.push_back(sc.name);

@@ -35,6 +35,8 @@ CameraConfig read_camera(const sim::YamlFields& f, std::size_t index) {
     f.fail("id", "empty; expected /dev/videoN, a GigE id, rtp://HOST:PORT or mock[:WxH]");
   c.calibration_file = f.required_path("calibration");
   c.d_m = f.required_double("d_m", Range::positive());
+  c.max_video_age_ms =
+      f.optional_double("max_video_age_ms", 0.0, Range{0.0, 60'000.0, true, false});
   c.optional = f.optional_bool("optional", false);
   if (auto k = f.optional_path("key_file")) {
     if (c.id.rfind("rtp://", 0) != 0)
@@ -146,6 +148,17 @@ core::MarkingParams read_marking(const sim::YamlFields& f) {
   m.checker_cell_px = f.optional_int("checker_cell_px", m.checker_cell_px, Range::closed(1, 1024));
   m.checker_contrast =
       f.optional_double("checker_contrast", m.checker_contrast, Range::closed(0.0, 1.0));
+  m.model_age_fresh_ms =
+      f.optional_double("model_age_fresh_ms", m.model_age_fresh_ms, Range::non_negative());
+  m.model_age_full_ms =
+      f.optional_double("model_age_full_ms", m.model_age_full_ms, Range::non_negative());
+  if (m.model_age_full_ms < m.model_age_fresh_ms)
+    f.fail("model_age_full_ms", "must be >= model_age_fresh_ms");
+  m.stale_fade_max = f.optional_double("stale_fade", m.stale_fade_max, Range::closed(0.0, 1.0));
+  m.stale_checker_contrast = f.optional_double("stale_checker_contrast", m.stale_checker_contrast,
+                                               Range::closed(0.0, 1.0));
+  m.video_age_warn_ms =
+      f.optional_double("video_age_warn_ms", m.video_age_warn_ms, Range::non_negative());
   f.finish();
   return m;
 }

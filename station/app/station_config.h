@@ -26,6 +26,9 @@ struct CameraConfig {
   core::Pinhole p_c;             ///< read from the calibration file
   core::Pose T_world_cam;        ///< from the calibration file, or `pose:` in station.yaml
   double d_m = 1.0;
+  /// Video older than this at the display time is not shown as live (core/video_age.h);
+  /// 0: the default, core::default_max_video_age_s of the rate the camera delivers.
+  double max_video_age_ms = 0.0;
   bool optional = false;  ///< a camera that cannot be opened is skipped instead of fatal
   /// A network camera's pre-shared SRTP key file (resolved; "" = no encryption). Its stream
   /// must then be SRTP with this key; anything else is rejected and counted.

@@ -35,6 +35,7 @@
 #include "station/app/scene_locator.h"
 #include "station/app/station_parts.h"
 #include "station/app/trace_plot.h"
+#include "station/app/usability_log.h"
 #include "station/prediction/constant_velocity_predictor.h"
 #include "station/prediction/kalman_predictor.h"
 
@@ -210,6 +211,8 @@ int run(const RunOptions& o) {
   RunProgress progress(o.progress_s, stdout, start_ns);
   // Format changes are reported when they happen, not only as a count at the end.
   CameraEventLog camera_events(stdout, start_ns);
+  // So is every camera becoming unusable (too old, not streaming) and usable again.
+  UsabilityLog usability(stdout, start_ns, p.cameras.size());
   std::vector<drivers::CameraSource*> event_sources;
   for (const auto& pipe : p.pipelines) event_sources.push_back(pipe.get());
   for (;;) {
@@ -224,6 +227,7 @@ int run(const RunOptions& o) {
     const int64_t now = clock.now_ns();
     progress.frame_done(frame.last_row().variant, loop.frames(), loop.missed_deadlines(), now);
     camera_events.poll(event_sources, p.camera_names);
+    usability.poll(frame, p.camera_names);
     if (now >= next_hud_ns) {
       next_hud_ns = now + 500'000'000;
       const station::FrameRow& r = frame.last_row();
@@ -244,6 +248,7 @@ int run(const RunOptions& o) {
   const uint64_t allocations = core::counted_allocations();
   p.stop();
   camera_events.poll(event_sources, p.camera_names);
+  usability.poll(frame, p.camera_names);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   const FrameRecorderStats rec = recorder.finish();
@@ -295,6 +300,8 @@ int run(const RunOptions& o) {
     n.last_error = st.last_error;
     s.network_cameras.push_back(n);
   }
+  s.camera_unusable = usability.intervals();
+  s.frames_stale_blocked = frame.frames_stale_blocked();
   s.pose_accepted = frame.pose_history().accepted();
   s.pose_rejected = frame.pose_history().rejected() + p.head->rejected_reports();
   s.recentres = p.head->recentres();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/video_age.h"
 #include "core/view_measure.h"
 #include "station/model/model_updater.h"
 
@@ -26,7 +27,18 @@ StationFrame::StationFrame(StationFrameConfig config,
       m_camera_(cameras.size(), INFINITY),
       measure_(cameras.size() * 2),
       has_frame_(cameras.size(), 0),
+      usable_(cameras.size(), 0),
+      age_s_(cameras.size(), NAN),
+      max_age_s_(cameras.size(), 0.0),
+      fade_s_(cameras.size(), 0.0),
+      first_new_ns_(cameras.size(), 0),
       fetched_(cameras.size(), 0) {
+  for (std::size_t i = 0; i < cameras_.size(); ++i) {
+    const double max_age = cameras_[i].max_video_age_s > 0.0 ? cameras_[i].max_video_age_s
+                                                             : core::default_max_video_age_s(0.0);
+    max_age_s_[i] = max_age;
+    fade_s_[i] = core::video_age_fade_s(max_age, config_.transition.time_constant_s);
+  }
   out_.allocate(config_.rig.output_width(), config_.rig.output_height());
   if (config_.lens) {
     // The HUD goes where the eye sees it through the lens, not at the image's (black) corner.
@@ -51,6 +63,8 @@ void StationFrame::tick(const render::FrameTiming& timing) {
   // Newest frame of every camera (the device threads keep publishing meanwhile).
   for (std::size_t i = 0; i < cameras_.size(); ++i) {
     if (cameras_[i].source && cameras_[i].source->frames().fetch()) {
+      if (has_frame_[i] && !usable_[i] && first_new_ns_[i] == 0)
+        first_new_ns_[i] = cameras_[i].source->frames().latest().host_timestamp_ns;
       has_frame_[i] = 1;
       ++fetched_[i];
     }
@@ -71,6 +85,28 @@ void StationFrame::tick(const render::FrameTiming& timing) {
   const int64_t pose_sample_ns = history_.empty() ? 0 : history_.newest().t_ns;
   const core::Pose T_world_head = config_.T_world_tracker * predictor_.predict(timing.display_ns);
 
+  // Age of every camera's newest frame at the display time, and whether it may be shown.
+  bool any_blocked = false;
+  for (std::size_t c = 0; c < cameras_.size(); ++c) {
+    const drivers::CameraSource* src = cameras_[c].source;
+    const drivers::SourceState state = src ? src->state() : drivers::SourceState::kClosed;
+    const bool streaming = state == drivers::SourceState::kStreaming;
+    age_s_[c] = has_frame_[c] ? core::age_s(cameras_[c].source->frames().latest().host_timestamp_ns,
+                                            timing.display_ns)
+                              : NAN;
+    const bool usable = has_frame_[c] && std::isfinite(core::time_extended_m(
+                                             0.0, streaming, age_s_[c], max_age_s_[c]));
+    any_blocked = any_blocked || (has_frame_[c] && !usable);
+    if (usable != (usable_[c] != 0)) {
+      usable_[c] = usable;
+      if (!usability_events_.push({static_cast<int>(c), usable, timing.frame, timing.display_ns,
+                                   age_s_[c], usable ? first_new_ns_[c] : 0, state}))
+        ++usability_events_lost_;
+      first_new_ns_[c] = 0;
+    }
+  }
+  frames_stale_blocked_ += any_blocked;
+
   const render::StereoRig& rig = config_.rig;
   const int eyes = rig.eye_count();
   for (std::size_t c = 0; c < cameras_.size(); ++c) {
@@ -88,19 +124,38 @@ void StationFrame::tick(const render::FrameTiming& timing) {
       vm = core::measure_view(s);
       worse = render::StereoRig::worse_m(worse, vm.m);
     }
-    m_camera_[c] = has_frame_[c] ? worse : INFINITY;
+    m_camera_[c] = usable_[c] ? worse : INFINITY;
   }
   const int chosen = selector_.update(m_camera_, timing.dt_s);
   const double m = chosen >= 0 ? m_camera_[static_cast<std::size_t>(chosen)] : INFINITY;
-  const core::TransitionState ts = transition_.update(m, timing.dt_s);
+  // A camera left with nothing better stays on screen while its video fades out, its weight
+  // held down by its frame's age.
+  if (chosen >= 0) shown_ = chosen;
+  const double w_cap = shown_ >= 0
+                           ? core::video_weight_cap(age_s_[static_cast<std::size_t>(shown_)],
+                                                    max_age_s_[static_cast<std::size_t>(shown_)],
+                                                    fade_s_[static_cast<std::size_t>(shown_)])
+                           : 1.0;
+  const core::TransitionState ts = transition_.update(m, timing.dt_s, w_cap);
+  if (chosen < 0 && ts.w_video <= 0.0) shown_ = -1;
 
   render::GuidanceCue cue;
   if (config_.draw_guidance && ts.w_video <= 0.0)
     cue = guidance_toward_nearest(rig.eye[0], rig.T_world_eye(T_world_head, 0), guidance_cameras_);
 
+  // The staleness cue: the model fades with its age, video past 3/4 of its bound is framed.
+  const double shown_age_s = shown_ >= 0 ? age_s_[static_cast<std::size_t>(shown_)] : NAN;
+  const bool video_stale =
+      shown_ >= 0 && ts.w_video > 0.0 &&
+      !(shown_age_s <= (config_.marking.video_age_warn_ms > 0.0
+                            ? 1e-3 * config_.marking.video_age_warn_ms
+                            : 0.75 * max_age_s_[static_cast<std::size_t>(shown_)]));
+  const core::MarkingParams marking =
+      config_.marking.for_ages(1e3 * core::age_s(model_capture_ns, timing.display_ns), video_stale);
+
   const int64_t render_start_ns = clock_.now_ns();
   const drivers::Frame* video = nullptr;
-  if (chosen >= 0) video = &cameras_[static_cast<std::size_t>(chosen)].source->frames().latest();
+  if (shown_ >= 0) video = &cameras_[static_cast<std::size_t>(shown_)].source->frames().latest();
   for (int e = 0; e < eyes; ++e) {
     render::CompositeRequest req;
     req.scene = scene;
@@ -108,9 +163,9 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     req.T_world_eye = rig.T_world_eye(T_world_head, e);
     req.near_m = config_.near_m;
     if (video) {
-      const drivers::CalibratedCamera& cam = cameras_[static_cast<std::size_t>(chosen)];
+      const drivers::CalibratedCamera& cam = cameras_[static_cast<std::size_t>(shown_)];
       const core::ViewMeasure& vm =
-          measure_[static_cast<std::size_t>(chosen) * 2 + static_cast<std::size_t>(e)];
+          measure_[static_cast<std::size_t>(shown_) * 2 + static_cast<std::size_t>(e)];
       req.video = video;
       req.real = cam.p_c;
       req.T_world_real = cam.T_world_real;
@@ -120,7 +175,7 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     }
     req.transition = ts;
     req.mode = config_.transition.mode;
-    req.marking = config_.marking;
+    req.marking = marking;
     req.viewport = rig.viewport(e);
     compositor_.draw(req, out_);
     // Ghost frustum + arrow toward eye 0's nearest camera, seen from this eye; HUD on eye 0.
@@ -170,7 +225,7 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     row.frame = timing.frame;
     row.m = m;
     row.w_video = ts.w_video;
-    row.camera = chosen;
+    row.camera = shown_;
     row.variant = ts.variant;
     row.guidance = cue.active;
     row.guidance_distance_m = cue.distance_m;
@@ -179,6 +234,10 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     row.head_x_m = T_world_head.t.x();
     row.head_y_m = T_world_head.t.y();
     row.head_z_m = T_world_head.t.z();
+    row.video_age_ms = video && ts.w_video > 0.0
+                           ? 1e3 * core::age_s(video->host_timestamp_ns, timing.display_ns)
+                           : NAN;
+    row.model_age_ms = 1e3 * core::age_s(model_capture_ns, timing.display_ns);
   }
   if (rows_.size() < rows_.capacity())
     rows_.push_back(last_row_);

@@ -14,6 +14,8 @@
 #include "drivers/calibrated_camera.h"
 #include "drivers/camera_source.h"
 #include "drivers/pose_source.h"
+#include "drivers/source_state.h"
+#include "drivers/spsc_ring.h"
 #include "render/compositor/compositor.h"
 #include "render/latency/latency_recorder.h"
 #include "render/lens/lens_warp.h"
@@ -58,10 +60,37 @@ struct FrameRow {
   double guidance_distance_m = 0.0;
   double guidance_dir_x = 0.0, guidance_dir_y = 0.0;
   double head_x_m = 0.0, head_y_m = 0.0, head_z_m = 0.0;  ///< predicted head position
+  /// Age at the predicted display time of the video drawn (NaN: no video on screen) and of the
+  /// model's textures (NaN: the a-priori model, whose capture time is unknown), milliseconds.
+  double video_age_ms = 0.0;
+  double model_age_ms = 0.0;
+};
+
+/// A camera became usable (its source streams and its newest frame is younger than its
+/// max_video_age_s at the display time) or stopped being usable, seen in frame `frame`.
+struct CameraUsabilityEvent {
+  int camera = -1;
+  bool usable = false;
+  uint64_t frame = 0;
+  int64_t display_ns = 0;    ///< the predicted display time of that frame (CLOCK_MONOTONIC)
+  double video_age_s = 0.0;  ///< the newest frame's age then (NaN: no frame yet)
+  /// Becoming usable again: the host timestamp of the first frame the camera delivered after it
+  /// became unusable (0: none, or the first time it is usable), so how long its return took to
+  /// reach the screen can be read off frame timestamps.
+  int64_t first_new_frame_ns = 0;
+  drivers::SourceState state = drivers::SourceState::kClosed;
 };
 
 /// Per-frame work. Everything is sized in the constructor; tick() does not allocate (shown by
-/// loop_no_allocation_test), lock or throw.
+/// loop_no_allocation_test), lock or throw, and calls nothing of a camera but frames() (a
+/// lock-free mailbox) and state() (an atomic), so a device that hangs cannot hold a frame up.
+///
+/// Time is an input of the decision (docs/truth.md): a camera is usable only while its source
+/// is streaming and its newest frame is younger than its max_video_age_s at the predicted
+/// display time; otherwise its m is +inf (core::time_extended_m) and the selector leaves it.
+/// The camera on screen leaves through the transition (a blend fades out, an abrupt switch
+/// switches) with its weight capped by its frame's age (core::video_weight_cap), so no frame
+/// older than 1.5 max_video_age_s is ever drawn.
 class StationFrame final : public render::FrameWork {
  public:
   StationFrame(StationFrameConfig config, std::span<const drivers::CalibratedCamera> cameras,
@@ -93,6 +122,15 @@ class StationFrame final : public render::FrameWork {
   const CameraSelector& selector() const { return selector_; }
   /// Frames in which each camera showed a new frame (index = camera).
   const std::vector<uint64_t>& frames_fetched() const { return fetched_; }
+  /// The oldest usability change not taken yet (call between ticks, on the render thread).
+  bool pop_usability_event(CameraUsabilityEvent& out) { return usability_events_.pop(out); }
+  /// Usability changes lost because nobody took them (the ring holds 256).
+  uint64_t usability_events_lost() const { return usability_events_lost_; }
+  /// Frames in which at least one camera that had delivered a frame was not usable (its video
+  /// withheld because it was too old or its source not streaming).
+  uint64_t frames_stale_blocked() const { return frames_stale_blocked_; }
+  /// Whether camera i was usable in the newest frame.
+  bool usable(std::size_t i) const { return usable_[i] != 0; }
 
  private:
   StationFrameConfig config_;
@@ -115,6 +153,15 @@ class StationFrame final : public render::FrameWork {
   std::vector<double> m_camera_;     ///< worse-eye m per camera
   std::vector<core::ViewMeasure> measure_;  ///< [camera * 2 + eye]
   std::vector<uint8_t> has_frame_;
+  std::vector<uint8_t> usable_;
+  std::vector<double> age_s_;          ///< newest frame's age at the display time, per camera
+  std::vector<double> max_age_s_;      ///< per camera
+  std::vector<double> fade_s_;         ///< per camera (core::video_age_fade_s)
+  std::vector<int64_t> first_new_ns_;  ///< first frame fetched while unusable, per camera
+  int shown_ = -1;                     ///< the camera whose video is drawn (chosen, or fading out)
+  drivers::SpscRing<CameraUsabilityEvent, 256> usability_events_;
+  uint64_t usability_events_lost_ = 0;
+  uint64_t frames_stale_blocked_ = 0;
   std::vector<uint64_t> fetched_;
   std::vector<FrameRow> rows_;
   uint64_t rows_dropped_ = 0;

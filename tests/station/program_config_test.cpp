@@ -59,6 +59,7 @@ constexpr const char* kGood = R"(cameras:
     id: mock
     calibration: cam.yaml
     d_m: 1.25
+    max_video_age_ms: 80
   - id: mock:320x240
     calibration: nopose.yaml
     d_m: 2
@@ -90,6 +91,7 @@ TEST_F(StationConfigTest, GoodFileReadsEveryValue) {
   EXPECT_EQ(a.calibration_file, path("cam.yaml"));
   EXPECT_DOUBLE_EQ(a.d_m, 1.25);
   EXPECT_FALSE(a.optional);
+  EXPECT_DOUBLE_EQ(a.max_video_age_ms, 80.0);
   // The values written into cam.yaml above.
   EXPECT_DOUBLE_EQ(a.p_c.fx, 510.0);
   EXPECT_DOUBLE_EQ(a.p_c.fy, 505.0);
@@ -105,6 +107,7 @@ TEST_F(StationConfigTest, GoodFileReadsEveryValue) {
   const CameraConfig& b = c.cameras[1];
   EXPECT_EQ(b.name, "camera1");
   EXPECT_TRUE(b.optional);
+  EXPECT_DOUBLE_EQ(b.max_video_age_ms, 0.0);  // the default: derived from the camera's rate
   EXPECT_EQ(b.p_c.width, 320);
   // pose: overrides; yaw 90 deg about world y (R = Ry(90)) turns camera z (forward) to world +x.
   EXPECT_TRUE(b.T_world_cam.t.isApprox(Eigen::Vector3d(1, 0, 0)));
@@ -190,6 +193,14 @@ std::vector<Broken> broken_snippets() {
       {"bad predictor", "predictor", cam + tail + "predictor: magic   # <-\n"},
       {"stereo pair names an unknown camera", "model.stereo[0].right",
        cam + tail + "model:\n  stereo:\n    - {left: camera0, right: nope}   # <-\n"},
+      {"max_video_age_ms zero", "cameras[0].max_video_age_ms",
+       cam + "    max_video_age_ms: 0   # <-\n" + tail},
+      {"model ages the wrong way round", "marking.model_age_full_ms",
+       cam + tail + "marking:\n  model_age_fresh_ms: 500\n  model_age_full_ms: 400   # <-\n"},
+      {"stale fade out of range", "marking.stale_fade",
+       cam + tail + "marking: {stale_fade: 2}   # <-\n"},
+      {"max_video_age_ms not a number", "cameras[0].max_video_age_ms",
+       cam + "    max_video_age_ms: soon   # <-\n" + tail},
   };
 }
 

@@ -117,7 +117,9 @@ void check_frames_csv(const fs::path& p, uint64_t frames,
                                                     "guidance_dir_y",
                                                     "head_x_m",
                                                     "head_y_m",
-                                                    "head_z_m"};
+                                                    "head_z_m",
+                                                    "video_age_ms",
+                                                    "model_age_ms"};
   ASSERT_EQ(t.header, expected_header);
   ASSERT_EQ(t.rows.size(), frames);
   double last_t = -1.0;
@@ -153,6 +155,14 @@ void check_frames_csv(const fs::path& p, uint64_t frames,
     EXPECT_TRUE(r["guidance"] == "0" || r["guidance"] == "1");
     for (const char* k : {"head_x_m", "head_y_m", "head_z_m"})
       EXPECT_TRUE(std::isfinite(std::stod(r[k])));
+    // A video age exactly when video is on screen; a model age whenever the model has one.
+    EXPECT_EQ(r["video_age_ms"].empty(), v == "synthetic") << r["video_age_ms"];
+    if (!r["video_age_ms"].empty()) {
+      EXPECT_GT(std::stod(r["video_age_ms"]), -5.0);
+    }
+    if (!r["model_age_ms"].empty()) {
+      EXPECT_GT(std::stod(r["model_age_ms"]), -5.0);
+    }
   }
 }
 
