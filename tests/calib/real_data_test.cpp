@@ -39,8 +39,12 @@ TEST(RealData, OpencvLeftReproducesPublishedCalibration) {
   const CalibrationFile f = read_calibration_file(out);
   EXPECT_NEAR(f.pinhole.fx, 535.91573, 2.0);
   EXPECT_NEAR(f.pinhole.fy, 535.91573, 2.0);
-  EXPECT_NEAR(f.pinhole.cx, 342.28315, 2.0);
-  EXPECT_NEAR(f.pinhole.cy, 235.57083, 2.0);
+  // The published figures and the file are OpenCV's numbers; the Pinhole is half a pixel on.
+  const cv::Matx33d K_file = file_camera_matrix(out);
+  EXPECT_NEAR(K_file(0, 2), 342.28315, 2.0);
+  EXPECT_NEAR(K_file(1, 2), 235.57083, 2.0);
+  EXPECT_DOUBLE_EQ(f.pinhole.cx, K_file(0, 2) + 0.5);
+  EXPECT_DOUBLE_EQ(f.pinhole.cy, K_file(1, 2) + 0.5);
   EXPECT_NEAR(f.avg_reprojection_error_px, 0.39259, 0.05);
   EXPECT_EQ(f.pinhole.width, 640);
   EXPECT_EQ(f.pinhole.height, 480);
@@ -72,7 +76,7 @@ TEST(RealData, OpencvLeftReproducesPublishedCalibration) {
   const auto K = ros["camera_matrix"]["data"].as<std::vector<double>>();
   ASSERT_EQ(K.size(), 9u);
   EXPECT_NEAR(K[0], f.pinhole.fx, 1e-6);
-  EXPECT_NEAR(K[2], f.pinhole.cx, 1e-6);
+  EXPECT_NEAR(K[2], file_camera_matrix(out)(0, 2), 1e-6);  // both OpenCV's convention
   EXPECT_TRUE(fs::file_size(tmp.path() / "left.png") > 10000);
 }
 
@@ -91,8 +95,8 @@ TEST(RealData, WebcamUsesAllViewsWarnsPrincipalPointAndGivesAPose) {
   // README's own run (flags 0): fx 878.48, cx 197.76, cy 217.89, RMS 0.5736.
   const CalibrationFile f = read_calibration_file(out);
   EXPECT_NEAR(f.pinhole.fx, 878.48, 2.0);
-  EXPECT_NEAR(f.pinhole.cx, 197.76, 2.0);
-  EXPECT_NEAR(f.pinhole.cy, 217.89, 2.0);
+  EXPECT_NEAR(file_camera_matrix(out)(0, 2), 197.76, 2.0);
+  EXPECT_NEAR(file_camera_matrix(out)(1, 2), 217.89, 2.0);
   EXPECT_NEAR(f.avg_reprojection_error_px, 0.5736, 0.05);
   double hull = fs["coverage_hull_fraction"];
   EXPECT_NEAR(hull, 0.44, 0.05);  // README: the corners' hull covers 44% of the image
@@ -135,8 +139,8 @@ TEST(RealData, WebcamUsesAllViewsWarnsPrincipalPointAndGivesAPose) {
                          static_cast<float>(c.z()));
   }
   std::vector<cv::Point2f> proj;
-  cv::Mat K = (cv::Mat_<double>(3, 3) << pa.pinhole.fx, 0, pa.pinhole.cx, 0, pa.pinhole.fy,
-               pa.pinhole.cy, 0, 0, 1);
+  // OpenCV's K as the file holds it (not the Pinhole, which is half a pixel on).
+  const cv::Mat K(file_camera_matrix(pose_out));
   cv::Mat D(1, 5, CV_64F);
   for (int i = 0; i < 5; ++i) D.at<double>(i) = pa.pinhole.distortion[static_cast<std::size_t>(i)];
   cv::projectPoints(cam_pts, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K, D, proj);
