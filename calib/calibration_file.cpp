@@ -210,6 +210,19 @@ std::string pose_yaml(const PoseReport& rep) {
   return fs.releaseAndGetString();
 }
 
+std::string stereo_camera_yaml(const core::Pinhole& pinhole, const core::Pose& T_world_cam,
+                               const std::string& role, int pairs, double stereo_rms_px,
+                               double epipolar_px, double row_rms_px) {
+  cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  fs << "calibration_time" << now_utc();
+  fs << "stereo_role" << role << "nr_of_pairs" << pairs;
+  write_pinhole(fs, pinhole);
+  fs << "camera_pose_R" << pose_R(T_world_cam) << "camera_pose_t" << pose_t(T_world_cam);
+  fs << "stereo_rms_px" << stereo_rms_px << "stereo_epipolar_error_px" << epipolar_px;
+  fs << "stereo_rectified_row_rms_px" << row_rms_px;
+  return fs.releaseAndGetString();
+}
+
 std::string ros_camera_info_yaml(const IntrinsicsResult& r, const std::string& camera_name) {
   std::ostringstream o;
   o.precision(10);

@@ -71,6 +71,13 @@ struct PoseReport {
 /// The YAML text of a pose calibration: the intrinsics it used plus camera_pose_R/_t.
 std::string pose_yaml(const PoseReport& report);
 
+/// The YAML text of one camera of a stereo calibration: its intrinsics (OpenCV's convention in the
+/// file) and camera_pose_R/_t (T_world_cam; the rig's left camera is the world origin), with the
+/// stereo figures for reference.
+std::string stereo_camera_yaml(const core::Pinhole& pinhole, const core::Pose& T_world_cam,
+                               const std::string& role, int pairs, double stereo_rms_px,
+                               double epipolar_px, double row_rms_px);
+
 /// ROS camera_info YAML (camera_calibration_parsers' format) for an intrinsics result.
 std::string ros_camera_info_yaml(const IntrinsicsResult& r, const std::string& camera_name);
 
