@@ -7,10 +7,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "calib/corner_detector.h"
+#include "core/opencv_pixels.h"
 
 namespace hd::calib {
 
-cv::Matx33d camera_matrix(const core::Pinhole& p) {
+cv::Matx33d camera_matrix(const core::Pinhole& pinhole) {
+  const core::OpenCvIntrinsics p = core::to_opencv(pinhole);
   return {p.fx, 0, p.cx, 0, p.fy, p.cy, 0, 0, 1};
 }
 

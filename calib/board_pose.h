@@ -55,7 +55,8 @@ PoseResult estimate_camera_pose(const cv::Mat& gray, const Board& board,
                                 const core::Pinhole& intrinsics, const core::Pose& T_world_board,
                                 const PoseOptions& opt);
 
-/// cv::Mat camera matrix and distortion row of a Pinhole.
+/// OpenCV's camera matrix (pixel centres at integers, core::to_opencv) and distortion row of a
+/// Pinhole.
 cv::Matx33d camera_matrix(const core::Pinhole& p);
 cv::Mat distortion_row(const core::Pinhole& p);
 

@@ -5,6 +5,8 @@
 #include <opencv2/core.hpp>
 #include <sstream>
 
+#include "core/opencv_pixels.h"
+
 namespace hd::calib {
 
 namespace {
@@ -60,7 +62,9 @@ cv::Mat pose_t(const core::Pose& pose) {
   return (cv::Mat_<double>(3, 1) << pose.t.x(), pose.t.y(), pose.t.z());
 }
 
-void write_pinhole(cv::FileStorage& fs, const core::Pinhole& p) {
+// The file holds OpenCV's numbers (pixel centres at integers); core::to_opencv converts.
+void write_pinhole(cv::FileStorage& fs, const core::Pinhole& pinhole) {
+  const core::OpenCvIntrinsics p = core::to_opencv(pinhole);
   fs << "image_width" << p.width << "image_height" << p.height;
   fs << "camera_matrix" << cv::Mat(cv::Matx33d(p.fx, 0, p.cx, 0, p.fy, p.cy, 0, 0, 1));
   cv::Mat d(p.distortion_count, 1, CV_64F);
@@ -84,7 +88,8 @@ CalibrationFile read_calibration_file(const std::filesystem::path& path) {
   if (!fs.isOpened())
     throw CalibrationFileError(path.string() + ": not a readable OpenCV FileStorage YAML file");
   CalibrationFile out;
-  core::Pinhole& ph = out.pinhole;
+  // The file's numbers are OpenCV's; they become a core::Pinhole once, at the end (from_opencv).
+  core::OpenCvIntrinsics ph;
   ph.width = read_int(fs, path, "image_width");
   ph.height = read_int(fs, path, "image_height");
   if (ph.width <= 0 || ph.height <= 0 || ph.width > 100000 || ph.height > 100000)
@@ -103,6 +108,7 @@ CalibrationFile read_calibration_file(const std::filesystem::path& path) {
          "expected 4, 5 or 8 coefficients, got " + std::to_string(nd));
   ph.distortion_count = nd;
   for (int i = 0; i < nd; ++i) ph.distortion[static_cast<std::size_t>(i)] = D.at<double>(i);
+  out.pinhole = core::from_opencv(ph);
   if (const auto n = fs["avg_reprojection_error"]; !n.empty()) {
     if (!n.isReal() && !n.isInt()) fail(path, "avg_reprojection_error", "expected a number");
     out.avg_reprojection_error_px = static_cast<double>(n);
@@ -201,6 +207,19 @@ std::string pose_yaml(const PoseReport& rep) {
   fs << "camera_pose_R" << pose_R(rep.camera_pose) << "camera_pose_t" << pose_t(rep.camera_pose);
   fs << "pose_reprojection_error" << rep.reprojection_rms_px;
   fs << "pose_ambiguity_cue" << rep.cue;
+  return fs.releaseAndGetString();
+}
+
+std::string stereo_camera_yaml(const core::Pinhole& pinhole, const core::Pose& T_world_cam,
+                               const std::string& role, int pairs, double stereo_rms_px,
+                               double epipolar_px, double row_rms_px) {
+  cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  fs << "calibration_time" << now_utc();
+  fs << "stereo_role" << role << "nr_of_pairs" << pairs;
+  write_pinhole(fs, pinhole);
+  fs << "camera_pose_R" << pose_R(T_world_cam) << "camera_pose_t" << pose_t(T_world_cam);
+  fs << "stereo_rms_px" << stereo_rms_px << "stereo_epipolar_error_px" << epipolar_px;
+  fs << "stereo_rectified_row_rms_px" << row_rms_px;
   return fs.releaseAndGetString();
 }
 

@@ -35,6 +35,16 @@ struct CalibrationFile {
 /// if present, camera_pose_R / camera_pose_t (both or neither; R must be a rotation).
 CalibrationFile read_calibration_file(const std::filesystem::path& path);
 
+/// Process CPU seconds of each step of `intrinsics` (printed; the default run must cost no more
+/// than OpenCV's calibration sample, bench/calib/calib_cpu_bench).
+struct IntrinsicsCpu {
+  double detection_s = 0;         ///< detection + cornerSubPix (what the sample does too)
+  double larger_check_s = 0;      ///< the larger-board check, part of detection_s
+  double calibration_s = 0;       ///< calibrateCamera; σ is a by-product of the same call
+  double cross_validation_s = 0;  ///< the two half-set calibrations
+  double coverage_s = 0;          ///< coverage and warnings
+};
+
 struct IntrinsicsReport {
   IntrinsicsResult result;
   Board board;
@@ -42,6 +52,7 @@ struct IntrinsicsReport {
   Coverage coverage;
   CrossValidation cross_validation;
   std::vector<Warning> warnings;
+  IntrinsicsCpu cpu;
 };
 
 /// The YAML text of an intrinsics calibration.
@@ -59,6 +70,13 @@ struct PoseReport {
 
 /// The YAML text of a pose calibration: the intrinsics it used plus camera_pose_R/_t.
 std::string pose_yaml(const PoseReport& report);
+
+/// The YAML text of one camera of a stereo calibration: its intrinsics (OpenCV's convention in the
+/// file) and camera_pose_R/_t (T_world_cam; the rig's left camera is the world origin), with the
+/// stereo figures for reference.
+std::string stereo_camera_yaml(const core::Pinhole& pinhole, const core::Pose& T_world_cam,
+                               const std::string& role, int pairs, double stereo_rms_px,
+                               double epipolar_px, double row_rms_px);
 
 /// ROS camera_info YAML (camera_calibration_parsers' format) for an intrinsics result.
 std::string ros_camera_info_yaml(const IntrinsicsResult& r, const std::string& camera_name);

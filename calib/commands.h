@@ -11,5 +11,6 @@ enum ExitCode { kOk = 0, kFailed = 1, kBadInput = 2, kOutputExists = 3, kWriteEr
 
 void add_intrinsics_command(CLI::App& app, int& exit_code);
 void add_pose_command(CLI::App& app, int& exit_code);
+void add_stereo_command(CLI::App& app, int& exit_code);
 
 }  // namespace hd::calib

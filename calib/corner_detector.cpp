@@ -1,5 +1,7 @@
 #include "calib/corner_detector.h"
 
+#include <time.h>
+
 #include <algorithm>
 #include <condition_variable>
 #include <memory>
@@ -12,9 +14,17 @@ namespace hd::calib {
 
 namespace {
 
+// CPU time of the calling thread (the detection runs on its own worker thread).
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 Detection run_detection(const cv::Mat& gray, const Board& board, const DetectorOptions& opt) {
   Detection d;
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = thread_cpu_s();
   bool found = false;
   if (opt.use_classic) {
     found = cv::findChessboardCorners(
@@ -25,12 +35,18 @@ Detection run_detection(const cv::Mat& gray, const Board& board, const DetectorO
       // size, i.e. a 23x23 search window (the published reference figures used it).
       // A window reaching past the neighbouring corners pulls the estimate towards them (small
       // or distant boards), so it is capped at 0.6x the closest corner spacing.
+      // Both directions count: a board tilted about its rows is foreshortened along its columns.
       double spacing = 1e9;
+      const auto cols = static_cast<std::size_t>(board.cols);
       for (int r = 0; r < board.rows; ++r)
-        for (int c = 0; c + 1 < board.cols; ++c) {
+        for (int c = 0; c < board.cols; ++c) {
           const auto i = static_cast<std::size_t>(r * board.cols + c);
-          spacing =
-              std::min(spacing, static_cast<double>(cv::norm(d.corners[i + 1] - d.corners[i])));
+          if (c + 1 < board.cols)
+            spacing =
+                std::min(spacing, static_cast<double>(cv::norm(d.corners[i + 1] - d.corners[i])));
+          if (r + 1 < board.rows)
+            spacing = std::min(spacing,
+                               static_cast<double>(cv::norm(d.corners[i + cols] - d.corners[i])));
         }
       const int win = std::max(2, std::min(opt.refinement == Refinement::kSubPix11 ? 11 : 5,
                                            static_cast<int>(0.6 * spacing)));
@@ -48,20 +64,21 @@ Detection run_detection(const cv::Mat& gray, const Board& board, const DetectorO
     d.by_sb = found;
   }
   if (found && static_cast<int>(d.corners.size()) != board.corner_count()) found = false;
+  const double cpu_found = thread_cpu_s();
   if (found && opt.check_larger) {
-    std::vector<cv::Point2f> larger;
-    if (cv::findChessboardCornersSB(gray, board.pattern(), larger,
-                                    cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_LARGER) &&
-        static_cast<int>(larger.size()) > board.corner_count()) {
+    d.larger_corner_count = larger_board_corners(gray, board);
+    d.larger_check_cpu_s = thread_cpu_s() - cpu_found;
+    if (d.larger_corner_count > 0) {
       d.status = DetectionStatus::kLargerBoard;
-      d.larger_corner_count = static_cast<int>(larger.size());
       d.corners.clear();
+      d.cpu_s = thread_cpu_s() - cpu0;
       d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       return d;
     }
   }
   d.status = found ? DetectionStatus::kFound : DetectionStatus::kNotFound;
   if (!found) d.corners.clear();
+  d.cpu_s = thread_cpu_s() - cpu0;
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return d;
 }
@@ -75,6 +92,15 @@ struct Job {
 };
 
 }  // namespace
+
+int larger_board_corners(const cv::Mat& gray, const Board& board) {
+  std::vector<cv::Point2f> larger;
+  if (cv::findChessboardCornersSB(gray, board.pattern(), larger,
+                                  cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_LARGER) &&
+      static_cast<int>(larger.size()) > board.corner_count())
+    return static_cast<int>(larger.size());
+  return 0;
+}
 
 std::string Detection::describe() const {
   switch (status) {

@@ -30,13 +30,21 @@ struct Detection {
   DetectionStatus status = DetectionStatus::kNotFound;
   bool by_sb = false;  ///< found by the SB detector (fallback)
   std::vector<cv::Point2f> corners;
-  int larger_corner_count = 0;  ///< kLargerBoard: corners of the larger board SB saw
-  double seconds = 0.0;
+  int larger_corner_count = 0;      ///< kLargerBoard: corners of the larger board SB saw
+  double seconds = 0.0;             ///< wall time
+  double cpu_s = 0.0;               ///< CPU time of the detection thread, all of it
+  double larger_check_cpu_s = 0.0;  ///< the part spent on the larger-board check
 
   bool found() const { return status == DetectionStatus::kFound; }
   /// "board found", "board found (SB fallback)", "no board", "timed out after 5 s"
   std::string describe() const;
 };
+
+/// The inner corners of the larger chessboard the COLSxROWS pattern is part of
+/// (findChessboardCornersSB with CALIB_CB_LARGER), 0 if it is not part of one. As costly as a
+/// detection, and fooled by steep views of a board with a white margin: a check on --board, run
+/// per session (intrinsics_command), not on every view.
+int larger_board_corners(const cv::Mat& gray, const Board& board);
 
 /// Runs detection in a worker thread; if the deadline passes, the worker is abandoned (it owns a
 /// copy of the image and finishes on its own) and kTimedOut is returned, so a pathological frame

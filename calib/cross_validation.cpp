@@ -68,12 +68,13 @@ CrossValidation compare_models(const cv::Matx33d& K_a, const cv::Mat& D_a, const
 }
 
 CrossValidation cross_validate(const std::vector<View>& views, const Board& board,
-                               cv::Size image_size, const DistortionModel& model) {
+                               cv::Size image_size, const DistortionModel& model,
+                               const IntrinsicsResult* start) {
   if (views.size() < 6) return {};
   std::vector<View> a, b;
   for (std::size_t i = 0; i < views.size(); ++i) (i % 2 ? b : a).push_back(views[i]);
-  const auto ra = calibrate_intrinsics(a, board, image_size, model);
-  const auto rb = calibrate_intrinsics(b, board, image_size, model);
+  const auto ra = calibrate_intrinsics(a, board, image_size, model, start);
+  const auto rb = calibrate_intrinsics(b, board, image_size, model, start);
   std::vector<cv::Point2f> all, hull;
   for (const auto& v : views) all.insert(all.end(), v.corners.begin(), v.corners.end());
   cv::convexHull(all, hull);

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   hd::calib::add_intrinsics_command(app, exit_code);
   hd::calib::add_pose_command(app, exit_code);
+  hd::calib::add_stereo_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -5,8 +5,14 @@
 
 namespace hd::calib {
 
-/// calibrate_intrinsics + coverage + cross-validation + warnings.
+/// Process CPU time in seconds (all threads), for the step timings in IntrinsicsCpu.
+double process_cpu_s();
+
+/// calibrate_intrinsics + coverage + cross-validation + warnings, each step's CPU time in `cpu`.
+/// Cross-validation (two more calibrations) only with `cross_validate`: the default run costs no
+/// more CPU than OpenCV's calibration sample.
 IntrinsicsReport assess_intrinsics(const std::vector<View>& views, const Board& board,
-                                   cv::Size image_size, const DistortionModel& model);
+                                   cv::Size image_size, const DistortionModel& model,
+                                   bool cross_validate = true);
 
 }  // namespace hd::calib

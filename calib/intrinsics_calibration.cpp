@@ -8,8 +8,26 @@
 
 namespace hd::calib {
 
+std::vector<bool> outlier_views(const std::vector<double>& rms) {
+  std::vector<bool> out(rms.size(), false);
+  if (rms.empty()) return out;
+  std::vector<double> sorted = rms;
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t n = sorted.size();
+  const double median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  const double mean = std::accumulate(rms.begin(), rms.end(), 0.0) / static_cast<double>(n);
+  double var = 0;
+  for (double x : rms) var += (x - mean) * (x - mean);
+  const double sd = std::sqrt(var / static_cast<double>(n));
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] =
+        (rms[i] > 2.0 * median || rms[i] > mean + 3.0 * sd) && rms[i] > median + kOutlierFloorPx;
+  return out;
+}
+
 IntrinsicsResult calibrate_intrinsics(const std::vector<View>& views, const Board& board,
-                                      cv::Size image_size, const DistortionModel& model) {
+                                      cv::Size image_size, const DistortionModel& model,
+                                      const IntrinsicsResult* start) {
   if (views.size() < 3)
     throw std::runtime_error("calibration needs at least 3 views with the board found, got " +
                              std::to_string(views.size()));
@@ -23,13 +41,21 @@ IntrinsicsResult calibrate_intrinsics(const std::vector<View>& views, const Boar
   r.flags = model.cv_flags();
   cv::Mat K = cv::Mat::eye(3, 3, CV_64F);  // aspect 1 is the start (and the fixed value) of fx/fy
   cv::Mat D;
+  // LU instead of SVD for the normal equations and the sample's 30 iterations: the same minimum
+  // on well-posed sets at about half the CPU (bench/calib/calib_cpu_bench, docs/calibration.md).
+  int flags = r.flags | cv::CALIB_USE_LU;
+  if (start) {
+    K = cv::Mat(start->camera_matrix).clone();
+    D = start->distortion.clone();
+    flags |= cv::CALIB_USE_INTRINSIC_GUESS;
+  }
   std::vector<cv::Mat> rvecs, tvecs;
   cv::Mat std_extr, per_view;
   r.rms_px = cv::calibrateCamera(  // the "Extended" overload with std devs and per-view errors
 
       object_points, image_points, image_size, K, D, rvecs, tvecs, r.std_dev_intrinsics, std_extr,
-      per_view, r.flags,
-      cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, DBL_EPSILON));
+      per_view, flags,
+      cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, DBL_EPSILON));
   r.camera_matrix = cv::Matx33d(K);
   const int n_dist = model.terms == DistortionModel::Terms::rational8 ? 8 : 5;
   r.distortion = D.reshape(1, 1).colRange(0, n_dist).clone();
@@ -57,15 +83,8 @@ IntrinsicsResult calibrate_intrinsics(const std::vector<View>& views, const Boar
     rms.push_back(vr.rms_px);
     r.views.push_back(std::move(vr));
   }
-  std::vector<double> sorted = rms;
-  std::sort(sorted.begin(), sorted.end());
-  const std::size_t n = sorted.size();
-  const double median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
-  const double mean = std::accumulate(rms.begin(), rms.end(), 0.0) / static_cast<double>(n);
-  double var = 0;
-  for (double x : rms) var += (x - mean) * (x - mean);
-  const double sd = std::sqrt(var / static_cast<double>(n));
-  for (auto& v : r.views) v.outlier = v.rms_px > 2.0 * median || v.rms_px > mean + 3.0 * sd;
+  const std::vector<bool> out = outlier_views(rms);
+  for (std::size_t i = 0; i < r.views.size(); ++i) r.views[i].outlier = out[i];
   r.worst_view = static_cast<int>(std::max_element(rms.begin(), rms.end()) - rms.begin());
   return r;
 }

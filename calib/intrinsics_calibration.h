@@ -42,9 +42,20 @@ struct IntrinsicsResult {
   double sigma(int i) const { return std_dev_intrinsics.at<double>(0, i); }
 };
 
+/// A view is an outlier only if it is also this much worse than the median view: among views
+/// near 0.05 px, one at 0.062 px is not worth a warning however the others scatter.
+inline constexpr double kOutlierFloorPx = 0.1;
+
+/// Which views are outliers, from the per-view RMS (px): relative (above 2x the median or above
+/// mean + 3 sigma) and absolute (more than kOutlierFloorPx above the median) at once.
+std::vector<bool> outlier_views(const std::vector<double>& rms_px);
+
 /// Calibrates; needs >= 3 views (throws std::runtime_error otherwise). Outlier views: per-view RMS
-/// above 2x the median or above mean + 3 sigma of the per-view RMS.
+/// above 2x the median or above mean + 3 sigma of the per-view RMS (relative), and more than
+/// kOutlierFloorPx above the median (absolute). `start`, if given, is the initial guess
+/// (CALIB_USE_INTRINSIC_GUESS) instead of OpenCV's own initialisation.
 IntrinsicsResult calibrate_intrinsics(const std::vector<View>& views, const Board& board,
-                                      cv::Size image_size, const DistortionModel& model);
+                                      cv::Size image_size, const DistortionModel& model,
+                                      const IntrinsicsResult* start = nullptr);
 
 }  // namespace hd::calib

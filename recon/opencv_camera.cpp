@@ -1,17 +1,12 @@
 #include "recon/opencv_camera.h"
 
-#include <stdexcept>
-#include <string>
+#include "core/opencv_pixels.h"
 
 namespace hd::recon {
 
-namespace {
-// core's continuous coordinate of OpenCV's pixel 0 centre.
-constexpr double kCentreOffsetPx = 0.5;
-}  // namespace
-
-cv::Matx33d opencv_camera_matrix(const core::Pinhole& p) {
-  return {p.fx, 0.0, p.cx - kCentreOffsetPx, 0.0, p.fy, p.cy - kCentreOffsetPx, 0.0, 0.0, 1.0};
+cv::Matx33d opencv_camera_matrix(const core::Pinhole& pinhole) {
+  const core::OpenCvIntrinsics p = core::to_opencv(pinhole);
+  return {p.fx, 0.0, p.cx, 0.0, p.fy, p.cy, 0.0, 0.0, 1.0};
 }
 
 cv::Mat opencv_distortion(const core::Pinhole& p) {
@@ -24,22 +19,21 @@ cv::Mat opencv_distortion(const core::Pinhole& p) {
 
 core::Pinhole pinhole_from_opencv(const cv::Matx33d& K, const cv::Mat& distortion, int width,
                                   int height) {
-  core::Pinhole p;
-  p.fx = K(0, 0);
-  p.fy = K(1, 1);
-  p.cx = K(0, 2) + kCentreOffsetPx;
-  p.cy = K(1, 2) + kCentreOffsetPx;
-  p.width = width;
-  p.height = height;
+  core::OpenCvIntrinsics o;
+  o.fx = K(0, 0);
+  o.fy = K(1, 1);
+  o.cx = K(0, 2);
+  o.cy = K(1, 2);
+  o.width = width;
+  o.height = height;
   const int n = static_cast<int>(distortion.total());
-  if (n != 0 && n != 4 && n != 5 && n != 8)
-    throw std::invalid_argument("expected 0, 4, 5 or 8 distortion coefficients, got " +
-                                std::to_string(n));
-  cv::Mat d;
-  if (n > 0) distortion.reshape(1, 1).convertTo(d, CV_64F);
-  p.distortion_count = n;
-  for (int i = 0; i < n; ++i) p.distortion[static_cast<std::size_t>(i)] = d.at<double>(i);
-  return p;
+  o.distortion_count = n;
+  if (n > 0 && n <= static_cast<int>(o.distortion.size())) {
+    cv::Mat d;
+    distortion.reshape(1, 1).convertTo(d, CV_64F);
+    for (int i = 0; i < n; ++i) o.distortion[static_cast<std::size_t>(i)] = d.at<double>(i);
+  }
+  return core::from_opencv(o);  // throws std::invalid_argument for a count other than 0/4/5/8
 }
 
 }  // namespace hd::recon

@@ -1,7 +1,7 @@
 #pragma once
-// The one place recon/ converts a core::Pinhole (pixel centres at +0.5, DESIGN.md "Conventions")
-// to and from OpenCV's camera matrix (pixel centres at integers). calib/ is getting its own
-// conversion for the calibration files; when it lands, these two functions forward to it.
+// recon/'s OpenCV-typed view of a core::Pinhole (pixel centres at +0.5, DESIGN.md "Conventions")
+// as OpenCV's camera matrix (pixel centres at integers); the half pixel itself is converted only
+// in core/opencv_pixels.h, which these functions forward to.
 
 #include <opencv2/core.hpp>
 

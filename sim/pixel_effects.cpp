@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/opencv_pixels.h"
 #include "sim/sim_random.h"
 
 namespace hd::sim {
@@ -61,14 +62,17 @@ void ExposureLut::apply(drivers::Frame& frame) const {
 }
 
 LensDistorter::LensDistorter(const core::Pinhole& k) {
-  const cv::Matx33d K(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+  // Worked in OpenCV's numbers (pixel centres at integers, core/opencv_pixels.h): remap's map
+  // holds exactly the source coordinates undistortPoints returns.
+  const core::OpenCvIntrinsics o = core::to_opencv(k);
+  const cv::Matx33d K(o.fx, 0, o.cx, 0, o.fy, o.cy, 0, 0, 1);
   const int n = std::max(k.distortion_count, 5);
   cv::Mat D(1, n, CV_64F);
   for (int i = 0; i < n; ++i) D.at<double>(i) = k.distortion[static_cast<std::size_t>(i)];
   std::vector<cv::Point2d> distorted;
   distorted.reserve(static_cast<std::size_t>(k.width) * static_cast<std::size_t>(k.height));
   for (int v = 0; v < k.height; ++v) {
-    for (int u = 0; u < k.width; ++u) distorted.emplace_back(u + 0.5, v + 0.5);
+    for (int u = 0; u < k.width; ++u) distorted.emplace_back(u, v);
   }
   std::vector<cv::Point2d> ideal;
   cv::undistortPoints(distorted, ideal, K, D, cv::noArray(), K,
@@ -77,9 +81,7 @@ LensDistorter::LensDistorter(const core::Pinhole& k) {
   for (int v = 0; v < k.height; ++v) {
     for (int u = 0; u < k.width; ++u) {
       const cv::Point2d& p = ideal[static_cast<std::size_t>(v) * k.width + u];
-      // remap indexes pixel centres at integers; our continuous coordinates put them at +0.5.
-      map.at<cv::Vec2f>(v, u) =
-          cv::Vec2f(static_cast<float>(p.x - 0.5), static_cast<float>(p.y - 0.5));
+      map.at<cv::Vec2f>(v, u) = cv::Vec2f(static_cast<float>(p.x), static_cast<float>(p.y));
     }
   }
   cv::convertMaps(map, cv::noArray(), map1_, map2_, CV_16SC2);

@@ -16,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "core/opencv_pixels.h"
 #include "render/compositor/cpu_compositor.h"
 #include "sim/scene/scene_file.h"
 #include "sim/simulation.h"
@@ -136,7 +137,8 @@ BENCHMARK(BM_UndistortFixedPoint)->Unit(benchmark::kMicrosecond);
 
 void BM_UndistortCvRemap(benchmark::State& state) {
   const core::Pinhole p = distorted_640x480();
-  const cv::Matx33d K(p.fx, 0, p.cx - 0.5, 0, p.fy, p.cy - 0.5, 0, 0, 1);
+  const core::OpenCvIntrinsics o = core::to_opencv(p);
+  const cv::Matx33d K(o.fx, 0, o.cx, 0, o.fy, o.cy, 0, 0, 1);
   const cv::Mat D = (cv::Mat_<double>(1, 5) << p.distortion[0], p.distortion[1], 0, 0, 0);
   cv::Mat m1, m2;
   cv::initUndistortRectifyMap(K, D, cv::noArray(), K, {p.width, p.height}, CV_16SC2, m1, m2);

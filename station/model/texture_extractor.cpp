@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "core/opencv_pixels.h"
 #include "station/video/frame_copy.h"
 
 namespace hd::station {
@@ -190,8 +191,10 @@ void TextureExtractor::extract_view(render::SyntheticScene& scene, const Extract
       const Eigen::Vector3d Xc = Rt * (X - centre);
       const double z = Xc.z();
       if (!(z >= params_.near_m) || z > params_.far_m) continue;
-      // Bilinear footprint: pixel centres around (u, v) are at integer + 0.5.
-      const double fx = k.fx * Xc.x() / z + k.cx - 0.5, fy = k.fy * Xc.y() / z + k.cy - 0.5;
+      // Bilinear footprint in OpenCV's numbering (pixel centres at integers): the depth buffer's
+      // pixel (x0, y0) has its centre there.
+      const Eigen::Vector2d f_px = core::to_opencv_px(k.project(Xc));
+      const double fx = f_px.x(), fy = f_px.y();
       if (!(fx >= 0.0 && fy >= 0.0 && fx < w - 1 && fy < h - 1)) continue;
       const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
       const double ax = fx - x0, ay = fy - y0;

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "core/opencv_pixels.h"
 #include "station/video/frame_copy.h"
 
 #if defined(__SSE2__)
@@ -19,10 +20,10 @@ namespace {
 constexpr int kFracBits = 5;
 constexpr int kFracSize = 1 << kFracBits;
 
-// OpenCV puts pixel centres at integer coordinates, the project at +0.5 (core/pinhole.h): the
-// same lens in OpenCV's coordinates has its principal point half a pixel up-left.
-cv::Matx33d opencv_camera_matrix(const core::Pinhole& p) {
-  return {p.fx, 0.0, p.cx - 0.5, 0.0, p.fy, p.cy - 0.5, 0.0, 0.0, 1.0};
+// OpenCV puts pixel centres at integer coordinates, the project at +0.5 (core/opencv_pixels.h).
+cv::Matx33d opencv_camera_matrix(const core::Pinhole& pinhole) {
+  const core::OpenCvIntrinsics p = core::to_opencv(pinhole);
+  return {p.fx, 0.0, p.cx, 0.0, p.fy, p.cy, 0.0, 0.0, 1.0};
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <random>
 #include <string>
 
@@ -63,6 +64,17 @@ inline RunResult run_cli(const std::string& args) {
   const int status = ::pclose(p);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+/// The camera matrix exactly as the file holds it (OpenCV's numbers), read without calib's reader.
+inline cv::Matx33d file_camera_matrix(const fs::path& p) {
+  cv::FileStorage fs(p.string(), cv::FileStorage::READ);
+  cv::Mat K;
+  fs["camera_matrix"] >> K;
+  EXPECT_EQ(K.total(), 9u) << p;
+  if (K.total() != 9) return cv::Matx33d::eye();
+  K.convertTo(K, CV_64F);
+  return cv::Matx33d(K);
 }
 
 inline std::string q(const fs::path& p) {

@@ -231,7 +231,8 @@ TEST(SceneFile, CameraFromCalibrationFile) {
   const core::Pinhole& k = s.cameras[0].intrinsics;
   EXPECT_DOUBLE_EQ(k.fx, 110.0);
   EXPECT_DOUBLE_EQ(k.fy, 112.0);
-  EXPECT_DOUBLE_EQ(k.cx, 31.5);
+  EXPECT_DOUBLE_EQ(k.cx, 32.0);  // OpenCV's 31.5 (centres at integers) is core's image centre
+  EXPECT_DOUBLE_EQ(k.cy, 24.0);
   EXPECT_EQ(k.width, 64);
   EXPECT_DOUBLE_EQ(k.distortion[0], -0.2);
   EXPECT_EQ(s.cameras[0].calibration_file, (dir / "cam.yaml").string());

@@ -95,8 +95,9 @@ TEST_F(StationConfigTest, GoodFileReadsEveryValue) {
   // The values written into cam.yaml above.
   EXPECT_DOUBLE_EQ(a.p_c.fx, 510.0);
   EXPECT_DOUBLE_EQ(a.p_c.fy, 505.0);
-  EXPECT_DOUBLE_EQ(a.p_c.cx, 318.0);
-  EXPECT_DOUBLE_EQ(a.p_c.cy, 242.0);
+  // The file's principal point is OpenCV's (318, 242); core's pixel centres are half a pixel on.
+  EXPECT_DOUBLE_EQ(a.p_c.cx, 318.5);
+  EXPECT_DOUBLE_EQ(a.p_c.cy, 242.5);
   EXPECT_EQ(a.p_c.width, 640);
   EXPECT_EQ(a.p_c.distortion_count, 5);
   EXPECT_DOUBLE_EQ(a.p_c.distortion[0], -0.1);

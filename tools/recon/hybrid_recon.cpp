@@ -11,7 +11,6 @@
 
 #include "calib/atomic_file.h"
 #include "calib/calibration_file.h"
-#include "recon/opencv_camera.h"
 #include "recon/ply_writer.h"
 #include "recon/stereo_reconstructor.h"
 
@@ -36,19 +35,6 @@ struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The calibration file keeps OpenCV's pixel-centre convention; core::Pinhole is centred at +0.5.
-// read_calibration_file hands the file's numbers over as they are, so they are converted here,
-// with recon's single conversion (to become calib's once it has its own).
-hd::core::Pinhole pinhole_from_file(const hd::calib::CalibrationFile& f) {
-  const hd::core::Pinhole& raw = f.pinhole;
-  const cv::Matx33d K(raw.fx, 0, raw.cx, 0, raw.fy, raw.cy, 0, 0, 1);
-  cv::Mat d(1, raw.distortion_count, CV_64F);
-  for (int i = 0; i < raw.distortion_count; ++i)
-    d.at<double>(i) = raw.distortion[static_cast<std::size_t>(i)];
-  return hd::recon::pinhole_from_opencv(K, raw.distortion_count > 0 ? d : cv::Mat(), raw.width,
-                                        raw.height);
-}
-
 struct Camera {
   hd::core::Pinhole pinhole;
   hd::core::Pose pose;
@@ -65,7 +51,8 @@ Camera read_camera(const std::string& path) {
     throw BadInput(path +
                    ": no camera_pose_R / camera_pose_t (place the camera in the workspace "
                    "with `hybrid-calib pose` first)");
-  return {pinhole_from_file(f), *f.camera_pose};
+  // read_calibration_file already converted the file's OpenCV numbers to core's convention.
+  return {f.pinhole, *f.camera_pose};
 }
 
 cv::Mat read_image(const std::string& path, const hd::core::Pinhole& cam,
