@@ -290,8 +290,19 @@ GstCaps* RtpCamera::request_key_cb(GstElement*, guint, gpointer self) {
   return caps;
 }
 
-GstPadProbeReturn RtpCamera::depay_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self) {
-  static_cast<RtpCamera*>(self)->on_depay_packet(GST_PAD_PROBE_INFO_BUFFER(info));
+GstPadProbeReturn RtpCamera::depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self) {
+  auto* cam = static_cast<RtpCamera*>(self);
+  // Packets again after a stall (a cut link, a sender that paused): the frames in between are
+  // gone, so ask the sender for a key frame at once instead of waiting for its next one. A jitter
+  // buffer that resynchronises after a long gap reports no loss, so the depayloader would not.
+  if (cam->state_.load(std::memory_order_acquire) == SourceState::kStalled &&
+      cam->frames_published_.load(std::memory_order_relaxed) > 0 &&
+      !cam->key_frame_requested_.exchange(true, std::memory_order_acq_rel)) {
+    cam->key_frame_requests_.fetch_add(1, std::memory_order_relaxed);
+    gst_pad_push_event(pad,
+                       gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 0));
+  }
+  cam->on_depay_packet(GST_PAD_PROBE_INFO_BUFFER(info));
   return GST_PAD_PROBE_OK;
 }
 
@@ -440,6 +451,7 @@ void RtpCamera::on_sample(GstElement* sink) {
   gst_sample_unref(sample);
   mailbox_->publish();
   frames_published_.fetch_add(1, std::memory_order_relaxed);
+  key_frame_requested_.store(false, std::memory_order_release);
   timings_.push(
       {sequence_, stamped ? capture_ns : arrival_ns, arrival_ns, monotonic_now_ns(), stamped});
   last_frame_ns_.store(now, std::memory_order_relaxed);
@@ -448,6 +460,7 @@ void RtpCamera::on_sample(GstElement* sink) {
 
 RtpCamera::Feedback RtpCamera::feedback() const {
   Feedback f;
+  f.key_frame_requests = key_frame_requests_.load(std::memory_order_relaxed);
   if (pipeline_ == nullptr) return f;
   GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpBin);
   GObject* session = nullptr;

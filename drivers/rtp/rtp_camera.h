@@ -112,6 +112,9 @@ class RtpCamera final : public CameraSource {
     uint64_t pli_sent = 0;
     uint64_t nack_sent = 0;
     uint64_t rtcp_received_from_sender = 0;  ///< sender reports seen (have-sr)
+    /// Key frames this camera asked for itself when packets came back after a stall (each
+    /// becomes an RTCP PLI); the depayloader asks on its own on every detected loss.
+    uint64_t key_frame_requests = 0;
   };
   Feedback feedback() const;
   /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
@@ -157,6 +160,10 @@ class RtpCamera final : public CameraSource {
   SpscRing<RtpFrameTiming, 1024> timings_;
   std::array<std::atomic<uint64_t>, static_cast<std::size_t>(RtpPacketError::kCount)> malformed_{};
   std::atomic<uint64_t> frames_published_{0};
+  // Set when a stalled camera that had shown video asked for a key frame; cleared by the next
+  // published frame, so each outage asks once (more come from the depayloader on every loss).
+  std::atomic<bool> key_frame_requested_{false};
+  std::atomic<uint64_t> key_frame_requests_{0};
   std::atomic<uint64_t> wrong_format_{0};
   std::atomic<uint64_t> bus_errors_{0};
   std::atomic<uint64_t> restarts_{0};
