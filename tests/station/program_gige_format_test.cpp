@@ -13,10 +13,13 @@
 #include <string>
 
 #include "drivers/gige/fake_gige_camera.h"
+#include "support/text_file.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using hd::station::testing::replaced;
+using hd::station::testing::slurp;
 
 constexpr const char* kSerial = "STATIONFMT";
 constexpr const char* kId = "Aravis-Fake-STATIONFMT";
@@ -25,20 +28,6 @@ struct Result {
   int exit_code = -1;
   std::string out, err;
 };
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-std::string replaced(std::string s, const std::string& from, const std::string& to) {
-  const std::size_t at = s.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) s.replace(at, from.size(), to);
-  return s;
-}
 
 class StationGigeFormatTest : public ::testing::Test {
  protected:

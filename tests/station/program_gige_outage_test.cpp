@@ -26,22 +26,17 @@
 
 #include "drivers/gige/fake_gige_camera.h"
 #include "render/latency/latency_recorder.h"
+#include "support/text_file.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using hd::station::testing::slurp;
 
 constexpr const char* kSerial = "STATIONOUT";
 constexpr const char* kId = "Aravis-Fake-STATIONOUT";
 constexpr double kRateHz = 90.0;
 constexpr int64_t kMs = 1'000'000;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 // hybrid-station as a child whose stdout the test reads line by line as it is printed.
 class Station {

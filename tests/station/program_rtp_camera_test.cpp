@@ -16,25 +16,14 @@
 #include <string>
 
 #include "drivers/rtp/gst_launch_sender.h"
+#include "support/text_file.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using hd::drivers::testing::GstLaunch;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-std::string replaced(std::string s, const std::string& from, const std::string& to) {
-  const std::size_t at = s.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) s.replace(at, from.size(), to);
-  return s;
-}
+using hd::station::testing::replaced;
+using hd::station::testing::slurp;
 
 // hybrid-station as a child whose stdout is read line by line while it runs.
 class StationProcess {

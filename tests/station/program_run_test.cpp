@@ -20,22 +20,17 @@
 #include <vector>
 
 #include "render/latency/latency_recorder.h"
+#include "support/text_file.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using hd::station::testing::slurp;
 
 struct Result {
   int exit_code = -1;
   std::string out, err;
 };
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 class StationRunTest : public ::testing::Test {
  protected:

@@ -1,0 +1,31 @@
+#pragma once
+// Reading and editing the text files the program tests write and the station writes back
+// (configs, CSV, JSON): whole-file reads and a checked one-place replacement.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace hd::station::testing {
+
+/// The whole file ("" when it cannot be read: the caller's assertion then names what is missing).
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+/// `s` with the first `from` replaced by `to`; a `from` that is not there fails the test, so an
+/// edit of a config template can never silently do nothing.
+inline std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const std::size_t at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+}  // namespace hd::station::testing
