@@ -19,7 +19,6 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -99,19 +98,33 @@ class Station {
   std::string log_;
 };
 
+// The number right after `key` in `line`, when `line` holds `key` after `after` (or anywhere when
+// `after` is empty); -1 otherwise. (No std::regex: GCC 12's <regex> trips -Wmaybe-uninitialized
+// under the sanitizers.)
+long number_after(const std::string& line, const std::string& after, const std::string& key) {
+  std::size_t from = 0;
+  if (!after.empty()) {
+    from = line.find(after);
+    if (from == std::string::npos) return -1;
+  }
+  const std::size_t at = line.find(key, from);
+  if (at == std::string::npos) return -1;
+  const std::size_t digits = at + key.size();
+  if (digits >= line.size() || line[digits] < '0' || line[digits] > '9') return -1;
+  return std::stol(line.substr(digits));
+}
+
 // "  [     3 s] frames 270, ..." -> 270; -1 for another line.
 long progress_frames(const std::string& line) {
-  static const std::regex re(R"(^\s*\[\s*[0-9]+ s\] frames ([0-9]+),)");
-  std::smatch m;
-  return std::regex_search(line, m, re) ? std::stol(m[1]) : -1;
+  const std::size_t open = line.find_first_not_of(' ');
+  if (open == std::string::npos || line[open] != '[') return -1;
+  return number_after(line, " s] ", "frames ");
 }
 
 // "camera front: usable from frame 893 (video 21 ms old)" -> 893 when `usable` matches.
 long event_frame(const std::string& line, bool usable) {
-  static const std::regex re_usable(R"(camera front: usable from frame ([0-9]+) )");
-  static const std::regex re_unusable(R"(camera front: unusable from frame ([0-9]+) )");
-  std::smatch m;
-  return std::regex_search(line, m, usable ? re_usable : re_unusable) ? std::stol(m[1]) : -1;
+  return number_after(
+      line, "", usable ? "camera front: usable from frame " : "camera front: unusable from frame ");
 }
 
 struct FrameCsvRow {
