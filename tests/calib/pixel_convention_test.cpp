@@ -161,9 +161,11 @@ TEST(PixelConvention, CalibrationFileFromRenderedViewsReadsBackAsTheRenderedPinh
   RecordProperty("cy_error_px", std::to_string(e_cy));
   std::printf("cx %.4f (truth %.4f, sigma %.4f)  cy %.4f (truth %.4f, sigma %.4f)\n", f.pinhole.cx,
               truth.cx, s_cx, f.pinhole.cy, truth.cy, s_cy);
-  // Within the reported uncertainty...
-  EXPECT_LE(std::abs(e_cx), 2.0 * s_cx) << run.output;
-  EXPECT_LE(std::abs(e_cy), 2.0 * s_cy) << run.output;
+  // Within the reported uncertainty (1 sigma, as the issue asks: the views are rendered and the
+  // calibration is deterministic, so this is a fixed figure, the same in the plain and the
+  // sanitizer build: cx -0.177 px against sigma 0.183, cy -0.027 against 0.131)...
+  EXPECT_LE(std::abs(e_cx), s_cx) << run.output;
+  EXPECT_LE(std::abs(e_cy), s_cy) << run.output;
   // ... and clearly not the half-pixel slip this test exists for.
   EXPECT_LT(std::abs(e_cx), 0.25);
   EXPECT_LT(std::abs(e_cy), 0.25);
