@@ -4,9 +4,12 @@
 // says its p_c comes from the station's calibration file and its capture time is its arrival.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <csignal>
+#include <cstdlib>
 
 #include <cstdio>
 #include <filesystem>
@@ -58,6 +61,20 @@ class StationProcess {
       if (std::string(line).find(text) != std::string::npos) return true;
     }
     return false;
+  }
+  /// Reads stdout until `done(line)` holds for a line (true) or the program ends (false).
+  template <class Done>
+  bool read_until_line(Done done) {
+    char line[4096];
+    while (std::fgets(line, sizeof line, out_) != nullptr) {
+      all_ += line;
+      if (done(std::string(line))) return true;
+    }
+    return false;
+  }
+  /// Asks the station to stop as Ctrl-C would: it finishes the frame and writes every output.
+  void interrupt() {
+    if (pid_ > 0) ::kill(pid_, SIGTERM);
   }
   /// Reads the rest of stdout and returns the exit code.
   int wait() {
@@ -119,13 +136,24 @@ TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
   const std::string id = "rtp://127.0.0.1:" + std::to_string(port);
   write_station(dir, id, "");
   const fs::path out = dir / "out";
+  // The run lasts until the station has shown the sender's video (its own event line, then a
+  // progress line counting video frames), however long a loaded machine takes to start the
+  // sender; the 600 s only bound a hang.
   StationProcess station({"run", "--config", (dir / "station.yaml").string(), "--headless",
-                          "--seconds", "6", "--out", out.string()},
+                          "--seconds", "600", "--progress", "1", "--out", out.string()},
                          dir / "stderr.txt");
   // The sender starts once the station listens: a plain sender sends its SPS/PPS with its first
   // key frame only, and cannot be asked for another (it has no RTCP).
   ASSERT_TRUE(station.read_until("net (" + id + ")")) << station.out() << slurp(dir / "stderr.txt");
   GstLaunch sender(hd::drivers::testing::plain_sender_pipeline(port));
+  ASSERT_TRUE(station.read_until("camera net: usable from frame"))
+      << station.out() << slurp(dir / "stderr.txt");
+  ASSERT_TRUE(station.read_until_line([](const std::string& l) {
+    const std::size_t at = l.find("; video ");
+    return l.find("] frames ") != std::string::npos && at != std::string::npos &&
+           std::atol(l.c_str() + at + 8) > 0;
+  })) << station.out();
+  station.interrupt();
   ASSERT_EQ(station.wait(), 0) << station.out() << slurp(dir / "stderr.txt");
   const std::string& report = station.out();
   EXPECT_NE(report.find("camera   ok      net (" + id + ")"), std::string::npos) << report;
@@ -155,7 +183,9 @@ TEST(StationRtpCamera, WithAKeyTheUnencryptedSenderIsNeverShownAndTheReportNames
   write_key(dir / "station.key", 0600);
   const fs::path out = dir / "out";
   StationProcess station({"run", "--config", (dir / "station.yaml").string(), "--headless",
-                          "--seconds", "4", "--out", out.string()},
+                          // Long enough for a loaded machine to start the sender, whose
+                          // packets must arrive to be rejected.
+                          "--seconds", "20", "--out", out.string()},
                          dir / "stderr.txt");
   ASSERT_TRUE(station.read_until("net (" + id + ")")) << station.out() << slurp(dir / "stderr.txt");
   GstLaunch sender(hd::drivers::testing::plain_sender_pipeline(port));
