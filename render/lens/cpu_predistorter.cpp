@@ -116,26 +116,38 @@ __attribute__((target("avx2"))) int span_avx2(const uint8_t* base, int stride, c
 
 // --- kRadial ---------------------------------------------------------------------------------
 
-// sample_fixed for 8 pixels at once, each pair of horizontally adjacent texels fetched by one
-// 64-bit gather lane and weighed by pmaddwd (the same integer arithmetic, so the same bytes:
-// top * (256 - fy) + bottom * fy = 256 * top + (bottom - top) * fy).
-// `pick_lo` / `pick_hi` move the channel's two bytes of each pair (RGBA RGBA) into 16-bit words:
-// the gathers of lanes {0, 1, 4, 5} fill the low 8 bytes of each 128-bit lane, those of
-// {2, 3, 6, 7} the high 8, which puts the pixels back in order.
-__attribute__((target("avx2,fma"))) inline __m256i sample8_pairs(const long long* base, int stride4,
-                                                                 __m256i X, __m256i Y,
-                                                                 __m256i pick_lo, __m256i pick_hi,
-                                                                 __m256i x_min, __m256i x_max,
-                                                                 __m256i y_max) {
+// Where one channel of 8 pixels samples, ready for the fetch: the gather indices of the top-left
+// texels (lanes reordered {0, 1, 4, 5, 2, 3, 6, 7}, see fetch8_pairs), the horizontal weights as
+// 16-bit words (256 - fx, fx) and fy.
+struct Taps8 {
+  __m256i idx, wx, fy;
+};
+
+__attribute__((target("avx2,fma"))) inline Taps8 taps8(int stride4, __m256i X, __m256i Y,
+                                                       __m256i x_min, __m256i x_max,
+                                                       __m256i y_max) {
   X = _mm256_min_epi32(_mm256_max_epi32(X, x_min), x_max);
   Y = _mm256_min_epi32(_mm256_max_epi32(Y, _mm256_setzero_si256()), y_max);
   const __m256i m255 = _mm256_set1_epi32(255);
   const __m256i idx =
       _mm256_add_epi32(_mm256_mullo_epi32(_mm256_srai_epi32(Y, 8), _mm256_set1_epi32(stride4)),
                        _mm256_srai_epi32(X, 8));
-  const __m256i order = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
-  const __m256i idx_p = _mm256_permutevar8x32_epi32(idx, order);
-  const __m128i lo = _mm256_castsi256_si128(idx_p), hi = _mm256_extracti128_si256(idx_p, 1);
+  const __m256i fx = _mm256_and_si256(X, m255);
+  return {_mm256_permutevar8x32_epi32(idx, _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7)),
+          _mm256_sub_epi32(_mm256_add_epi32(_mm256_slli_epi32(fx, 16), _mm256_set1_epi32(256)), fx),
+          _mm256_and_si256(Y, m255)};
+}
+
+// sample_fixed for 8 pixels at once, each pair of horizontally adjacent texels fetched by one
+// 64-bit gather lane and weighed by pmaddwd (the same integer arithmetic, so the same bytes:
+// top * (256 - fy) + bottom * fy = 256 * top + (bottom - top) * fy).
+// `pick_lo` / `pick_hi` move the channel's two bytes of each pair (RGBA RGBA) into 16-bit words:
+// the gathers of lanes {0, 1, 4, 5} fill the low 8 bytes of each 128-bit lane, those of
+// {2, 3, 6, 7} the high 8, which puts the pixels back in order.
+__attribute__((target("avx2,fma"))) inline __m256i fetch8_pairs(const long long* base, int stride4,
+                                                                const Taps8& t, __m256i pick_lo,
+                                                                __m256i pick_hi) {
+  const __m128i lo = _mm256_castsi256_si128(t.idx), hi = _mm256_extracti128_si256(t.idx, 1);
   const __m128i row = _mm_set1_epi32(stride4);
   const __m256i t_lo = _mm256_i32gather_epi64(base, lo, 4);
   const __m256i t_hi = _mm256_i32gather_epi64(base, hi, 4);
@@ -145,15 +157,11 @@ __attribute__((target("avx2,fma"))) inline __m256i sample8_pairs(const long long
       _mm256_or_si256(_mm256_shuffle_epi8(t_lo, pick_lo), _mm256_shuffle_epi8(t_hi, pick_hi));
   const __m256i bottom_w =
       _mm256_or_si256(_mm256_shuffle_epi8(b_lo, pick_lo), _mm256_shuffle_epi8(b_hi, pick_hi));
-  const __m256i fx = _mm256_and_si256(X, m255), fy = _mm256_and_si256(Y, m255);
-  // Words (256 - fx, fx) per pixel.
-  const __m256i wx =
-      _mm256_sub_epi32(_mm256_add_epi32(_mm256_slli_epi32(fx, 16), _mm256_set1_epi32(256)), fx);
-  const __m256i top = _mm256_madd_epi16(top_w, wx);
-  const __m256i bottom = _mm256_madd_epi16(bottom_w, wx);
+  const __m256i top = _mm256_madd_epi16(top_w, t.wx);
+  const __m256i bottom = _mm256_madd_epi16(bottom_w, t.wx);
   const __m256i sum =
       _mm256_add_epi32(_mm256_add_epi32(_mm256_slli_epi32(top, 8),
-                                        _mm256_mullo_epi32(_mm256_sub_epi32(bottom, top), fy)),
+                                        _mm256_mullo_epi32(_mm256_sub_epi32(bottom, top), t.fy)),
                        _mm256_set1_epi32(32768));
   return _mm256_srli_epi32(sum, 16);
 }
@@ -169,11 +177,15 @@ struct RadialArgs {
   int x_lo, x_hi, y_hi;
 };
 
-// Panel columns [x, end) of one row and eye (x - half_offset = the column in the half); the last
-// partial group of 8 is computed whole and stored under a mask (its extra lanes are clamped into
-// the eye like any other sample, so they read inside the image).
+// Panel columns [x, end) of one row and eye (x - half_offset = the column in the half), in chunks
+// of up to kChunk groups of 8: first every sample point of the chunk (into a small buffer on the
+// stack, in L1), then the fetches. Two short dependency chains instead of one long one let the
+// core overlap more groups' gathers. The last partial group is computed whole and stored under
+// a mask (its extra lanes are clamped into the eye like any other sample, so they read inside
+// the image).
 __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, uint32_t* out, int x,
                                                           int end, int half_offset) {
+  constexpr int kChunk = 16;
   const long long* b64 = reinterpret_cast<const long long*>(a.base);
   const int stride4 = a.stride / 4;
   const __m256i x_min = _mm256_set1_epi32(a.x_lo * 256),
@@ -200,28 +212,35 @@ __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, u
     gy[c] = _mm256_set1_ps(a.gain256[c][1]);
   }
   const __m256 ox = _mm256_set1_ps(a.origin256[0]), oy = _mm256_set1_ps(a.origin256[1]);
-  for (; x < end; x += 8) {
-    const __m256i col = _mm256_add_epi32(_mm256_set1_epi32(x - half_offset), iota);
-    const __m256 dx = _mm256_add_ps(_mm256_cvtepi32_ps(col), d0x);
-    const __m256 rx = _mm256_mul_ps(dx, kx);
-    const __m256 r = _mm256_sqrt_ps(_mm256_fmadd_ps(rx, rx, ry2));
-    __m256 t = top_coeff;
-    for (int i = a.ratio_terms - 2; i >= 0; --i)
-      t = _mm256_fmadd_ps(t, r, _mm256_set1_ps(a.ratio[i]));
-    const __m256 ax = _mm256_mul_ps(t, dx), ay = _mm256_mul_ps(t, dy);
-    __m256i ch[3];
-    for (int c = 0; c < 3; ++c) {
-      const __m256i X = _mm256_cvttps_epi32(_mm256_fmadd_ps(ax, gx[c], ox));
-      const __m256i Y = _mm256_cvttps_epi32(_mm256_fmadd_ps(ay, gy[c], oy));
-      ch[c] = sample8_pairs(b64, stride4, X, Y, pick_lo[c], pick_hi[c], x_min, x_max, y_max);
+  Taps8 taps[kChunk][3];
+  while (x < end) {
+    const int groups = std::min(kChunk, (end - x + 7) / 8);
+    for (int g = 0; g < groups; ++g) {
+      const __m256i col = _mm256_add_epi32(_mm256_set1_epi32(x + 8 * g - half_offset), iota);
+      const __m256 dx = _mm256_add_ps(_mm256_cvtepi32_ps(col), d0x);
+      const __m256 rx = _mm256_mul_ps(dx, kx);
+      const __m256 r = _mm256_sqrt_ps(_mm256_fmadd_ps(rx, rx, ry2));
+      __m256 t = top_coeff;
+      for (int i = a.ratio_terms - 2; i >= 0; --i)
+        t = _mm256_fmadd_ps(t, r, _mm256_set1_ps(a.ratio[i]));
+      const __m256 ax = _mm256_mul_ps(t, dx), ay = _mm256_mul_ps(t, dy);
+      for (int c = 0; c < 3; ++c)
+        taps[g][c] =
+            taps8(stride4, _mm256_cvttps_epi32(_mm256_fmadd_ps(ax, gx[c], ox)),
+                  _mm256_cvttps_epi32(_mm256_fmadd_ps(ay, gy[c], oy)), x_min, x_max, y_max);
     }
-    const __m256i px = _mm256_or_si256(_mm256_or_si256(ch[0], _mm256_slli_epi32(ch[1], 8)),
-                                       _mm256_or_si256(_mm256_slli_epi32(ch[2], 16), alpha));
-    if (end - x >= 8) {
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), px);
-    } else {
-      const __m256i keep = _mm256_cmpgt_epi32(_mm256_set1_epi32(end - x), iota);
-      _mm256_maskstore_epi32(reinterpret_cast<int*>(out + x), keep, px);
+    for (int g = 0; g < groups; ++g, x += 8) {
+      const __m256i r = fetch8_pairs(b64, stride4, taps[g][0], pick_lo[0], pick_hi[0]);
+      const __m256i gr = fetch8_pairs(b64, stride4, taps[g][1], pick_lo[1], pick_hi[1]);
+      const __m256i bl = fetch8_pairs(b64, stride4, taps[g][2], pick_lo[2], pick_hi[2]);
+      const __m256i px = _mm256_or_si256(_mm256_or_si256(r, _mm256_slli_epi32(gr, 8)),
+                                         _mm256_or_si256(_mm256_slli_epi32(bl, 16), alpha));
+      if (end - x >= 8) {
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), px);
+      } else {
+        const __m256i keep = _mm256_cmpgt_epi32(_mm256_set1_epi32(end - x), iota);
+        _mm256_maskstore_epi32(reinterpret_cast<int*>(out + x), keep, px);
+      }
     }
   }
 }
