@@ -36,6 +36,15 @@ struct Frame {
   int64_t host_timestamp_ns = 0;    ///< CLOCK_MONOTONIC: exposure if the device time is trusted,
                                     ///< else arrival
   bool device_time_trusted = false;
+  /// A network camera's frame: when it crossed each stage of the link after its capture
+  /// (host_timestamp_ns), CLOCK_MONOTONIC ns; 0 = not known (a local camera, a plain sender).
+  struct LinkStages {
+    int64_t encoded_ns = 0;   ///< the sender's encoder output
+    int64_t sent_ns = 0;      ///< its last packet left the sender
+    int64_t received_ns = 0;  ///< its packets arrived at the station
+    int64_t decoded_ns = 0;   ///< the station's decoder output
+  };
+  LinkStages link;
   std::vector<uint8_t> data;
 
   /// Allocates `data` for an RGBA8 image of this size (outside the per-frame path).

@@ -15,6 +15,7 @@
 
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/gstreamer_init.h"
+#include "drivers/rtp/h264_payload.h"
 #include "drivers/rtp/rtp_receive_pipeline.h"
 
 namespace hd::drivers {
@@ -130,9 +131,8 @@ void RtpCamera::build() {
     GstPad* out = gst_element_get_static_pad(dec, "rtp_src");
     gst_pad_add_probe(
         out, GST_PAD_PROBE_TYPE_BUFFER,
-        [](GstPad*, GstPadProbeInfo*, gpointer self) {
-          static_cast<RtpCamera*>(self)->decrypted_.fetch_add(1, std::memory_order_relaxed);
-          return GST_PAD_PROBE_OK;
+        [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+          return static_cast<RtpCamera*>(self)->on_decrypted(GST_PAD_PROBE_INFO_BUFFER(info));
         },
         this, nullptr);
     gst_object_unref(out);
@@ -293,13 +293,46 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
   if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_DROP;
   bytes_.fetch_add(map.size, std::memory_order_relaxed);
   RtpPacketView view;
-  const RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
+  RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
+  if (e == RtpPacketError::kNone && view.payload_type != config_.payload_type &&
+      view.payload_type != config_.rtx_payload_type)
+    e = RtpPacketError::kOtherPayloadType;
+  if (e == RtpPacketError::kNone && view.payload_type == config_.payload_type) {
+    // One media SSRC at a time; another is taken once the current one has been silent for the
+    // stall timeout (a restarted sender), so a stray packet cannot restart the pipeline.
+    const int64_t now = monotonic_now_ns();
+    if (has_ssrc_ && view.ssrc != ssrc_ && now - ssrc_seen_ns_ < config_.stall_timeout_ns) {
+      e = RtpPacketError::kOtherSsrc;
+    } else {
+      has_ssrc_ = true;
+      ssrc_ = view.ssrc;
+      ssrc_seen_ns_ = now;
+    }
+  }
+  // With SRTP the payload is still encrypted here: on_decrypted() checks it.
+  if (e == RtpPacketError::kNone && !config_.srtp_key) e = check_h264_payload(view.payload);
   gst_buffer_unmap(buffer, &map);
   if (e != RtpPacketError::kNone) {
     malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
     return GST_PAD_PROBE_DROP;
   }
   well_formed_.fetch_add(1, std::memory_order_relaxed);
+  return GST_PAD_PROBE_OK;
+}
+
+GstPadProbeReturn RtpCamera::on_decrypted(GstBuffer* buffer) {
+  GstMapInfo map;
+  if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_DROP;
+  RtpPacketView view;
+  RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
+  if (e == RtpPacketError::kNone) e = check_h264_payload(view.payload);
+  gst_buffer_unmap(buffer, &map);
+  if (e != RtpPacketError::kNone) {  // authentic but malformed: counted as malformed only
+    malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
+    well_formed_.fetch_sub(1, std::memory_order_relaxed);
+    return GST_PAD_PROBE_DROP;
+  }
+  decrypted_.fetch_add(1, std::memory_order_relaxed);
   return GST_PAD_PROBE_OK;
 }
 
@@ -382,6 +415,7 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
   const int64_t encoded =
       stamp.stages ? capture_mono + int64_t(stamp.stages->encoded_us) * 1000 : 0;
   const int64_t sent = stamp.stages ? capture_mono + int64_t(stamp.stages->sent_us) * 1000 : 0;
+  const int64_t now = monotonic_now_ns();
   std::lock_guard lock(stamp_mutex_);
   for (StampSlot& s : stamps_)
     if (s.pts == pts) {  // a later packet of the frame: the frame was sent with its last one
@@ -391,7 +425,7 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
       s.uncertainty_ns = m.uncertainty_ns;
       return;
     }
-  stamps_[stamp_next_] = {pts, capture_mono, encoded, sent, m.uncertainty_ns, 0};
+  stamps_[stamp_next_] = {pts, capture_mono, encoded, sent, now, m.uncertainty_ns, 0};
   stamp_next_ = (stamp_next_ + 1) % stamps_.size();
 }
 
@@ -452,7 +486,7 @@ void RtpCamera::on_decoded(GstBuffer* buffer) {
       return;
     }
   // A plain sender's frame has no slot yet: one for its decode time only.
-  stamps_[stamp_next_] = {pts, 0, 0, 0, -1, now};
+  stamps_[stamp_next_] = {pts, 0, 0, 0, 0, -1, now};
   stamp_next_ = (stamp_next_ + 1) % stamps_.size();
 }
 
@@ -568,6 +602,10 @@ void RtpCamera::on_sample(GstElement* sink) {
     slot.device_timestamp_ns = arrival_ns;
     slot.device_time_trusted = false;
   }
+  slot.link.encoded_ns = stamped ? stages.encoded_ns : 0;
+  slot.link.sent_ns = stamped ? stages.sent_ns : 0;
+  slot.link.received_ns = stages.received_ns;
+  slot.link.decoded_ns = stages.decoded_ns;
   gst_sample_unref(sample);
   mailbox_->publish();
   frames_published_.fetch_add(1, std::memory_order_relaxed);
@@ -578,6 +616,7 @@ void RtpCamera::on_sample(GstElement* sink) {
   timing.encoded_ns = stamped ? stages.encoded_ns : 0;
   timing.sent_ns = stamped ? stages.sent_ns : 0;
   timing.arrival_ns = arrival_ns;
+  timing.received_ns = stages.received_ns;
   timing.decoded_ns = stages.decoded_ns;
   timing.published_ns = monotonic_now_ns();
   timing.clock_uncertainty_ns = stamped ? stages.uncertainty_ns : 0;
@@ -646,6 +685,7 @@ RtpCameraStats RtpCamera::stats() const {
     s.malformed[i] = malformed_[i].load(std::memory_order_relaxed);
     s.malformed_total += s.malformed[i];
   }
+  s.accepted = well_formed_.load(std::memory_order_relaxed);
   s.frames_published = frames_published_.load(std::memory_order_relaxed);
   s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
   s.bus_errors = bus_errors_.load(std::memory_order_relaxed);

@@ -28,7 +28,8 @@ struct RtpFrameTiming {
   int64_t capture_ns = 0;    ///< the sender's capture time, mapped (or the arrival if unstamped)
   int64_t encoded_ns = 0;    ///< the sender's encoder output (capture + its sender-stages offset)
   int64_t sent_ns = 0;       ///< its last packet left the sender's payloader (likewise)
-  int64_t arrival_ns = 0;    ///< received: udpsrc's arrival time, as the jitter buffer gave it
+  int64_t arrival_ns = 0;    ///< udpsrc's arrival time, as the jitter buffer gives it (its PTS)
+  int64_t received_ns = 0;   ///< its first packet left the jitter buffer (0: a plain sender)
   int64_t decoded_ns = 0;    ///< avdec_h264 output it
   int64_t published_ns = 0;  ///< converted to RGBA and in the mailbox
   /// capture_ns (and so encoded_ns, sent_ns) is true to within this (-1 unknown); 0 unstamped.
@@ -43,9 +44,11 @@ struct RtpCameraStats {
   /// Times the RTCP feedback destination was set (the first sender's RTCP address, then each
   /// new one).
   uint64_t feedback_targets = 0;
-  /// Packets refused by parse_rtp_packet (dropped before GStreamer sees them), by reason.
+  /// Packets refused by parse_rtp_packet or check_h264_payload (dropped before rtpbin or, with a
+  /// key, right after srtpdec), by reason.
   std::array<uint64_t, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
   uint64_t malformed_total = 0;
+  uint64_t accepted = 0;  ///< passed on to GStreamer: packets = accepted + malformed_total
   uint64_t frames_published = 0;
   uint64_t wrong_format = 0;  ///< decoded frames of another size than negotiated (not published)
   uint64_t bus_errors = 0;    ///< GStreamer errors (each restarts the pipeline)
@@ -96,8 +99,9 @@ struct RtpCameraStats {
 /// Liveness: no frame for stall_timeout_ns makes the state kStalled; a GStreamer error makes it
 /// kDisconnected, is counted with its text, and the pipeline is rebuilt after 0.5 s.
 ///
-/// Bad input: every UDP datagram on the RTP port is checked with parse_rtp_packet before
-/// GStreamer sees it; a malformed one is dropped and counted by reason.
+/// Bad input: every UDP datagram on the RTP port is checked with parse_rtp_packet and its H.264
+/// payload with check_h264_payload (after srtpdec with a key) before the depayloader sees it; a
+/// malformed one is dropped and counted by reason.
 class RtpCamera final : public CameraSource {
  public:
   explicit RtpCamera(RtpReceiveConfig config);
@@ -145,6 +149,7 @@ class RtpCamera final : public CameraSource {
   void bus_loop();
   void on_sample(GstElement* sink);
   GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
+  GstPadProbeReturn on_decrypted(GstBuffer* buffer);
   void on_depay_packet(GstBuffer* buffer);
   void on_rtcp_into_rtpbin(GstBuffer* buffer);
   void on_decoded(GstBuffer* buffer);
@@ -171,6 +176,10 @@ class RtpCamera final : public CameraSource {
   bool format_lost_ = false;
 
   std::atomic<uint64_t> packets_{0}, bytes_{0}, feedback_targets_{0};
+  // The media SSRC taken (udpsrc's streaming thread).
+  bool has_ssrc_ = false;
+  uint32_t ssrc_ = 0;
+  int64_t ssrc_seen_ns_ = 0;
   std::string feedback_to_;  // RTCP source thread: where feedback goes now
   SpscRing<RtpFrameTiming, 1024> timings_;
   std::array<std::atomic<uint64_t>, static_cast<std::size_t>(RtpPacketError::kCount)> malformed_{};
@@ -194,6 +203,7 @@ class RtpCamera final : public CameraSource {
     uint64_t pts = ~0ull;
     int64_t capture_mono_ns = 0;
     int64_t encoded_ns = 0, sent_ns = 0;  // 0: no sender-stages element
+    int64_t received_ns = 0;              // its first packet at the depayloader
     int64_t uncertainty_ns = -1;
     int64_t decoded_ns = 0;
   };

@@ -65,6 +65,18 @@ std::string_view to_string(RtpPacketError e) {
       return "bad padding";
     case RtpPacketError::kBadExtension:
       return "malformed RFC 8285 element";
+    case RtpPacketError::kOtherPayloadType:
+      return "another payload type than the stream's";
+    case RtpPacketError::kOtherSsrc:
+      return "another SSRC while the stream's is live";
+    case RtpPacketError::kH264Empty:
+      return "H.264 payload empty or its forbidden bit set";
+    case RtpPacketError::kH264BadType:
+      return "H.264 NAL unit type undefined or not of packetization mode 1";
+    case RtpPacketError::kH264BadAggregate:
+      return "H.264 STAP-A sizes do not fill the packet";
+    case RtpPacketError::kH264BadFragment:
+      return "H.264 FU-A too short or both start and end";
     case RtpPacketError::kCount:
       break;
   }

@@ -18,6 +18,15 @@ enum class RtpPacketError : uint8_t {
   kExtensionOverrun,  ///< the header extension runs past the packet's end
   kBadPadding,        ///< padding count 0 or larger than what follows the header
   kBadExtension,      ///< an RFC 8285 element runs past its block, or uses the reserved id 15
+  // The stream (RtpCamera): rtpbin makes a pad for every new SSRC and payload type, and one that
+  // nothing is linked to stops the pipeline, so one such packet would restart the camera.
+  kOtherPayloadType,  ///< neither the stream's payload type nor its RTX payload type
+  kOtherSsrc,         ///< another SSRC while the stream's own is live (a sender restarting waits)
+  // The H.264 payload (RFC 6184, check_h264_payload in h264_payload.h):
+  kH264Empty,         ///< no payload, or its forbidden bit set
+  kH264BadType,       ///< NAL type 0, 30, 31 (undefined), or STAP-B, MTAP, FU-B (mode 1 has none)
+  kH264BadAggregate,  ///< a STAP-A whose NAL unit sizes do not fill it exactly, or are 0
+  kH264BadFragment,   ///< a FU-A shorter than 3 bytes, or with both start and end bits
   kCount
 };
 

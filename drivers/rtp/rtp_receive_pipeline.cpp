@@ -41,12 +41,19 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
        kRtpBin + ".recv_rtcp_sink_0 ";
   d += std::string(kRtpBin) + ".send_rtcp_src_0 ! multiudpsink name=" + kRtcpSink +
        " sync=false async=false ";
-  d += std::string(kRtpBin) + ". ! rtph264depay name=" + kDepayloader +
-       " request-keyframe=true wait-for-keyframe=true ! avdec_h264 name=" + kDecoder +
-       " max-threads=1 ! videoconvert ! "
-       "video/x-raw,format=RGBA ! appsink name=" +
-       kAppSink + " sync=false max-buffers=1 drop=true";
+  d += std::string(kRtpBin) + ". ! " + depayloader_description() + " ! " + decoder_description() +
+       " ! appsink name=" + kAppSink + " sync=false max-buffers=1 drop=true";
   return d;
+}
+
+std::string depayloader_description() {
+  return std::string("rtph264depay name=") + rtp_elements::kDepayloader +
+         " request-keyframe=true wait-for-keyframe=true";
+}
+
+std::string decoder_description() {
+  return std::string("avdec_h264 name=") + rtp_elements::kDecoder +
+         " max-threads=1 ! videoconvert ! video/x-raw,format=RGBA";
 }
 
 }  // namespace hd::drivers

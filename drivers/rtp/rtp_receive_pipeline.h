@@ -29,4 +29,10 @@ inline constexpr const char* kNetsim = "netsim";
 /// to srtpdec's request-key signal), so the description can be shown.
 std::string receive_pipeline_description(const RtpReceiveConfig& c);
 
+/// The part after rtpbin, as receive_pipeline_description() builds it: the depayloader
+/// (rtph264depay, named kDepayloader) and the decoder to RGBA (avdec_h264 named kDecoder →
+/// videoconvert), each a gst_parse_launch fragment (the fuzz test feeds them directly).
+std::string depayloader_description();
+std::string decoder_description();
+
 }  // namespace hd::drivers

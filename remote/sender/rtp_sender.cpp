@@ -200,11 +200,19 @@ bool RtpSender::push(const drivers::Frame& f) {
 // The encoded frame, before the payloader: the capture time push() attached (a reference
 // timestamp meta, which videoconvert and x264enc carry over) is what rtphdrextntp64 writes.
 GstPadProbeReturn RtpSender::on_encoded(GstPadProbeInfo* info) {
-  encoded_pts_ = GST_BUFFER_PTS(GST_PAD_PROBE_INFO_BUFFER(info));
+  GstBuffer* b = GST_PAD_PROBE_INFO_BUFFER(info);
+  encoded_pts_ = GST_BUFFER_PTS(b);
   encoded_mono_ns_ = drivers::monotonic_now_ns();
+  encoded_capture_ns_ = 0;
   GstCaps* caps = gst_caps_new_empty_simple("timestamp/x-ntp");
-  if (gst_buffer_get_reference_timestamp_meta(GST_PAD_PROBE_INFO_BUFFER(info), caps) != nullptr)
+  // x264enc shifts its output PTS (by 1000 h, its min-pts), so the capture time comes from the
+  // meta: back from CLOCK_REALTIME (+ the test shift) in the NTP epoch to CLOCK_MONOTONIC.
+  if (const GstReferenceTimestampMeta* m = gst_buffer_get_reference_timestamp_meta(b, caps)) {
     frames_stamped_.fetch_add(1, std::memory_order_relaxed);
+    encoded_capture_ns_ = static_cast<int64_t>(m->timestamp) -
+                          drivers::kNtpUnixOffsetS * 1'000'000'000LL -
+                          realtime_minus_monotonic_ns() - config_.test_clock_shift_ns;
+  }
   gst_caps_unref(caps);
   return GST_PAD_PROBE_OK;
 }
@@ -217,13 +225,14 @@ bool RtpSender::stamp_packet(GstBuffer* buffer) {
                               std::span<uint8_t, drivers::kCameraStateSize>(data));
   bool ok = gst_rtp_buffer_add_extension_onebyte_header(&rtp, drivers::kCameraStateExtensionId,
                                                         data, sizeof data);
-  // Stage times after capture (the PTS is the capture time on the pipeline clock).
+  // Stage times after capture, for the packets of the frame on_encoded() saw last (the
+  // payloader sends a frame's packets before it takes the next frame).
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
-  if (GST_CLOCK_TIME_IS_VALID(pts)) {
-    const int64_t capture_ns = static_cast<int64_t>(pts + gst_element_get_base_time(pipeline_));
+  if (GST_CLOCK_TIME_IS_VALID(pts) && pts == encoded_pts_ && encoded_capture_ns_ != 0) {
+    const int64_t capture_ns = encoded_capture_ns_;
     const int64_t now = drivers::monotonic_now_ns();
     drivers::SenderStagesStamp st;
-    st.encoded_us = micros_between(capture_ns, pts == encoded_pts_ ? encoded_mono_ns_ : now);
+    st.encoded_us = micros_between(capture_ns, encoded_mono_ns_);
     st.sent_us = micros_between(capture_ns, now);
     const uint64_t trips = round_trips_.load(std::memory_order_relaxed);
     const int64_t rtt = round_trip_ns_.load(std::memory_order_relaxed);

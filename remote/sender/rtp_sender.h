@@ -66,6 +66,7 @@ class RtpSender {
   // Streaming thread of the payloader: when the frame now being packetised reached it.
   GstClockTime encoded_pts_ = GST_CLOCK_TIME_NONE;
   int64_t encoded_mono_ns_ = 0;
+  int64_t encoded_capture_ns_ = 0;  // its capture time (CLOCK_MONOTONIC), 0 unknown
 };
 
 }  // namespace hd::remote

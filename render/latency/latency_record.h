@@ -26,6 +26,12 @@ struct LatencyRecord {
   int64_t swap_ns = 0;               ///< present() returned
   int64_t predicted_display_ns = 0;  ///< the time the pose was predicted to
   bool missed_deadline = false;
+  /// A network camera's video (drivers::Frame::LinkStages; 0 otherwise): capture (video_ns) →
+  /// encoded → sent → received → decoded → shown (predicted_display_ns).
+  int64_t video_encoded_ns = 0;
+  int64_t video_sent_ns = 0;
+  int64_t video_received_ns = 0;
+  int64_t video_decoded_ns = 0;
 };
 
 enum class LatencyMetric : uint8_t {
@@ -33,8 +39,21 @@ enum class LatencyMetric : uint8_t {
   kMotionToDisplay,
   kVideoAge,
   kRender,
-  kModelAge
+  kModelAge,
+  // The network camera's link, stage by stage (records of network video only).
+  kLinkEncode,   ///< capture → encoded
+  kLinkSend,     ///< encoded → sent
+  kLinkNetwork,  ///< sent → received (network, with the clock offset's error)
+  kLinkDecode,   ///< received → decoded (jitter buffer, depayload, decode)
+  kLinkShow,     ///< decoded → shown (convert, mailbox, render, the display's wait)
 };
+
+/// to - from when both stages are stamped.
+inline bool link_stage(int64_t from_ns, int64_t to_ns, int64_t& out_ns) {
+  if (from_ns == 0 || to_ns == 0) return false;
+  out_ns = to_ns - from_ns;
+  return true;
+}
 
 /// The metric in nanoseconds; false when the record lacks a stamp it needs.
 inline bool latency_of(const LatencyRecord& r, LatencyMetric m, int64_t& out_ns) {
@@ -59,6 +78,16 @@ inline bool latency_of(const LatencyRecord& r, LatencyMetric m, int64_t& out_ns)
       if (r.model_capture_ns == 0 || r.predicted_display_ns == 0) return false;
       out_ns = r.predicted_display_ns - r.model_capture_ns;
       return true;
+    case LatencyMetric::kLinkEncode:
+      return link_stage(r.video_ns, r.video_encoded_ns, out_ns);
+    case LatencyMetric::kLinkSend:
+      return link_stage(r.video_encoded_ns, r.video_sent_ns, out_ns);
+    case LatencyMetric::kLinkNetwork:
+      return link_stage(r.video_sent_ns, r.video_received_ns, out_ns);
+    case LatencyMetric::kLinkDecode:
+      return link_stage(r.video_received_ns, r.video_decoded_ns, out_ns);
+    case LatencyMetric::kLinkShow:
+      return link_stage(r.video_decoded_ns, r.predicted_display_ns, out_ns);
   }
   return false;
 }

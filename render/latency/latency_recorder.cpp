@@ -16,8 +16,9 @@ namespace {
 
 constexpr const char* kCsvHeader =
     "frame,pose_sample_ns,video_ns,video_is_exposure,texture_update_ns,render_start_ns,"
-    "render_end_ns,swap_ns,predicted_display_ns,missed_deadline,model_capture_ns";
-constexpr int kCsvColumns = 11;
+    "render_end_ns,swap_ns,predicted_display_ns,missed_deadline,model_capture_ns,"
+    "video_encoded_ns,video_sent_ns,video_received_ns,video_decoded_ns";
+constexpr int kCsvColumns = 15;
 
 // Commits a finished temp file under its final name, or removes it and says why.
 void commit_file(const std::string& tmp, const std::string& path) {
@@ -104,7 +105,8 @@ void LatencyRecorder::write_csv(const std::string& path) const {
       f << r.frame << ',' << r.pose_sample_ns << ',' << r.video_ns << ','
         << int{r.video_is_exposure} << ',' << r.texture_update_ns << ',' << r.render_start_ns << ','
         << r.render_end_ns << ',' << r.swap_ns << ',' << r.predicted_display_ns << ','
-        << int{r.missed_deadline} << ',' << r.model_capture_ns << "\n";
+        << int{r.missed_deadline} << ',' << r.model_capture_ns << ',' << r.video_encoded_ns << ','
+        << r.video_sent_ns << ',' << r.video_received_ns << ',' << r.video_decoded_ns << "\n";
     }
     f.flush();
     if (!f) {
@@ -157,6 +159,10 @@ std::vector<LatencyRecord> LatencyRecorder::read_csv(const std::string& path) {
     r.predicted_display_ns = v[8];
     r.missed_deadline = v[9] != 0;
     r.model_capture_ns = v[10];
+    r.video_encoded_ns = v[11];
+    r.video_sent_ns = v[12];
+    r.video_received_ns = v[13];
+    r.video_decoded_ns = v[14];
     out.push_back(r);
   }
   return out;
@@ -257,6 +263,23 @@ void LatencyRecorder::write_png(const std::string& path) const {
                 "%zu frames, p50 %.2f  p95 %.2f  p99 %.2f  max %.2f ms, missed %" PRIu64, count_,
                 sd.p50_ms, sd.p95_ms, sd.p99_ms, sd.max_ms, missed_);
   cv::putText(img, summary, {L.x, kH - 12}, font, 0.5, black, 1, cv::LINE_AA);
+  // A network camera's video: its link stage by stage, p50 of each.
+  const LatencyMetric stages[5] = {LatencyMetric::kLinkEncode, LatencyMetric::kLinkSend,
+                                   LatencyMetric::kLinkNetwork, LatencyMetric::kLinkDecode,
+                                   LatencyMetric::kLinkShow};
+  LatencyStats st[5];
+  for (int i = 0; i < 5; ++i) st[i] = stats(stages[i]);
+  if (st[0].count > 0) {
+    char link[200];
+    std::snprintf(link, sizeof link,
+                  "network video, p50 ms: capture -%.1f- encode -%.1f- send -%.1f- receive "
+                  "-%.1f- decode -%.1f- shown (%zu frames)",
+                  st[0].p50_ms, st[1].p50_ms, st[2].p50_ms, st[3].p50_ms, st[4].p50_ms,
+                  st[0].count);
+    cv::rectangle(img, {L.x + 5, L.y + 75}, {L.x + L.width - 5, L.y + 95},
+                  cv::Scalar(255, 255, 255), cv::FILLED);
+    cv::putText(img, link, {L.x + 10, L.y + 90}, font, 0.42, colours[2], 1, cv::LINE_AA);
+  }
 
   // imwrite picks the encoder from the extension, so the temp name keeps ".png".
   const std::string tmp = path + ".tmp.png";

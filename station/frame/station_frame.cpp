@@ -210,6 +210,10 @@ void StationFrame::tick(const render::FrameTiming& timing) {
   if (video && ts.w_video > 0.0) {
     r.video_ns = video->host_timestamp_ns;
     r.video_is_exposure = video->device_time_trusted;
+    r.video_encoded_ns = video->link.encoded_ns;
+    r.video_sent_ns = video->link.sent_ns;
+    r.video_received_ns = video->link.received_ns;
+    r.video_decoded_ns = video->link.decoded_ns;
   }
   r.texture_update_ns = texture_ns;
   r.model_capture_ns = model_capture_ns;

@@ -28,6 +28,12 @@ LatencyRecord make(uint64_t frame, int64_t mtp_ns, int64_t age_ns) {
   if (age_ns > 0) r.video_ns = r.predicted_display_ns - age_ns;
   r.video_is_exposure = frame % 2 == 0;
   r.missed_deadline = frame % 17 == 0;
+  if (age_ns > 0 && frame % 5 == 0) {  // a network camera's video: its link's stages
+    r.video_encoded_ns = r.video_ns + 4'000'000;
+    r.video_sent_ns = r.video_encoded_ns + 300'000;
+    r.video_received_ns = r.video_sent_ns + 1'200'000;
+    r.video_decoded_ns = r.video_received_ns + 2'500'000;
+  }
   return r;
 }
 
@@ -98,6 +104,10 @@ TEST(LatencyRecorder, CsvRoundTripIsExactAndAtomic) {
     EXPECT_EQ(a.swap_ns, b.swap_ns);
     EXPECT_EQ(a.predicted_display_ns, b.predicted_display_ns);
     EXPECT_EQ(a.missed_deadline, b.missed_deadline);
+    EXPECT_EQ(a.video_encoded_ns, b.video_encoded_ns);
+    EXPECT_EQ(a.video_sent_ns, b.video_sent_ns);
+    EXPECT_EQ(a.video_received_ns, b.video_received_ns);
+    EXPECT_EQ(a.video_decoded_ns, b.video_decoded_ns);
   }
   fs::remove_all(dir);
 }
@@ -135,6 +145,20 @@ TEST(LatencyRecorder, HudLineShowsNewestFrame) {
   EXPECT_NE(hud.find("MTP display 12.5 ms"), std::string::npos) << hud;
   EXPECT_NE(hud.find("MTP swap 9.5 ms"), std::string::npos) << hud;
   EXPECT_NE(hud.find("video age 30.0 ms"), std::string::npos) << hud;
+}
+
+TEST(LatencyRecorder, TheLinkStagesOfNetworkVideoAddUpToItsAge) {
+  LatencyRecorder rec(100);
+  for (uint64_t i = 0; i < 100; ++i) rec.record(make(i, 14'000'000, 35'000'000));
+  // Every fifth record is network video (make()): 4 + 0.3 + 1.2 + 2.5 ms, and the rest of the
+  // 35 ms age between decode and display.
+  EXPECT_EQ(rec.stats(LatencyMetric::kLinkEncode).count, 20u);
+  EXPECT_NEAR(rec.stats(LatencyMetric::kLinkEncode).p50_ms, 4.0, 1e-9);
+  EXPECT_NEAR(rec.stats(LatencyMetric::kLinkSend).p50_ms, 0.3, 1e-9);
+  EXPECT_NEAR(rec.stats(LatencyMetric::kLinkNetwork).p50_ms, 1.2, 1e-9);
+  EXPECT_NEAR(rec.stats(LatencyMetric::kLinkDecode).p50_ms, 2.5, 1e-9);
+  EXPECT_NEAR(rec.stats(LatencyMetric::kLinkShow).p50_ms, 35.0 - 4.0 - 0.3 - 1.2 - 2.5, 1e-9);
+  EXPECT_EQ(rec.stats(LatencyMetric::kVideoAge).count, 100u);
 }
 
 TEST(LatencyRecorder, PngIsWritten) {

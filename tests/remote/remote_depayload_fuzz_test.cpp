@@ -1,0 +1,405 @@
+// The station's receive path under mutated packets, from a real stream: hybrid-remote's RtpSender
+// encodes 45 frames (x264, every packet with its ntp-64, camera-state and sender-stages
+// elements), the test records the packets off a UDP socket, then replays them renumbered (so the
+// stream goes on) with mutated bytes, lengths, sequence numbers, marker bits, NAL and FU-A
+// headers and extension elements:
+//  - 10^6 packets through what RtpCamera checks every packet with (parse_rtp_packet,
+//    check_h264_payload, read_frame_stamp) and then rtph264depay as the camera builds it
+//    (depayloader_description; without check_h264_payload a 1-byte FU-A crashes it),
+//    fed by an appsrc that never drops: every packet is accounted for (refused by the parser, or
+//    reached the depayloader);
+//  - a subset (kCameraPackets, through the decoder: decoding 10^6 packets would take minutes)
+//    over UDP into a real RtpCamera (udpsrc → rtpbin → depayloader → avdec_h264 → mailbox): it
+//    must count every datagram, never publish a frame older than the newest, and show the clean
+//    stream again afterwards (DISABLED: known broken, see below).
+// Run under ASan too (scripts/test.sh): no crash, no out-of-bounds read.
+#include <gst/app/gstappsrc.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <thread>
+#include <vector>
+
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/gst_launch_sender.h"
+#include "drivers/rtp/gstreamer_init.h"
+#include "drivers/rtp/h264_payload.h"
+#include "drivers/rtp/rtp_camera.h"
+#include "drivers/rtp/rtp_frame_stamp.h"
+#include "drivers/rtp/rtp_packet.h"
+#include "drivers/rtp/rtp_receive_pipeline.h"
+#include "remote/sender/rtp_sender.h"
+
+namespace hd::drivers {
+namespace {
+
+constexpr int kWidth = 320, kHeight = 240, kFrames = 45;
+constexpr uint64_t kDepayPackets = 1'000'000;
+constexpr uint64_t kCameraPackets = 5'000;
+
+template <class F>
+bool wait_for(F f) {
+  for (int i = 0; i < 12000; ++i) {
+    if (f()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return f();
+}
+
+int64_t realtime_ns() {
+  timespec t{};
+  ::clock_gettime(CLOCK_REALTIME, &t);
+  return int64_t(t.tv_sec) * 1'000'000'000LL + t.tv_nsec;
+}
+
+// A UDP socket bound on loopback (RAII).
+struct UdpSocket {
+  int fd = -1;
+  explicit UdpSocket(uint16_t port) {
+    fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons(port);
+    int size = 8 << 20;
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &size, sizeof size);
+    timeval timeout{60, 0};  // bounds a hang only: packets are read as they come
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    if (port != 0 && ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+      ::close(fd);
+      fd = -1;
+    }
+  }
+  ~UdpSocket() {
+    if (fd >= 0) ::close(fd);
+  }
+  UdpSocket(const UdpSocket&) = delete;
+  UdpSocket& operator=(const UdpSocket&) = delete;
+};
+
+// The real stream: RtpSender's packets of kFrames frames of a moving picture, in order.
+std::vector<std::vector<uint8_t>> record_stream() {
+  const uint16_t port = testing::free_rtp_port();
+  UdpSocket in(port);
+  if (in.fd < 0) return {};
+  remote::RtpSendConfig sc;
+  sc.port = port;
+  sc.width_px = kWidth;
+  sc.height_px = kHeight;
+  sc.rate_hz = 30.0;
+  sc.bitrate_kbps = 1000;
+  sc.key_interval_s = 0.5;  // IDR frames in the corpus, FU-A fragments in them
+  remote::RtpSender sender(sc);
+  sender.start();
+  Frame f;
+  f.allocate_rgba(kWidth, kHeight);
+  std::vector<std::vector<uint8_t>> packets;
+  int frames = 0;
+  std::thread feeder([&] {
+    for (int n = 0; n < kFrames; ++n) {
+      for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+          uint8_t* p = f.data.data() + std::size_t(y) * f.stride_bytes + std::size_t(x) * 4;
+          p[0] = uint8_t(x + 4 * n);
+          p[1] = uint8_t(y * 2 + x * n);
+          p[2] = uint8_t((x * y) >> 4);
+          p[3] = 255;
+        }
+      f.host_timestamp_ns = monotonic_now_ns();
+      sender.push(f);
+      std::this_thread::sleep_for(std::chrono::milliseconds(33));  // the frame rate
+    }
+  });
+  std::vector<uint8_t> buf(65536);
+  while (frames < kFrames - 2) {  // x264 may hold the last frames back: enough is enough
+    const ssize_t n = ::recv(in.fd, buf.data(), buf.size(), 0);
+    if (n <= 0) break;
+    packets.emplace_back(buf.begin(), buf.begin() + n);
+    if (n >= 2 && (buf[1] & 0x80)) ++frames;  // the marker ends a frame
+  }
+  feeder.join();
+  sender.stop();
+  return packets;
+}
+
+// Replays the corpus as one endless stream with mutations.
+class Mutator {
+ public:
+  explicit Mutator(const std::vector<std::vector<uint8_t>>& corpus, uint64_t seed)
+      : corpus_(corpus), rng_(seed) {
+    RtpPacketView first, last;
+    parse_rtp_packet(corpus.front(), first);
+    parse_rtp_packet(corpus.back(), last);
+    span_ts_ = last.timestamp - first.timestamp + 3000;  // + one frame at 30 Hz
+  }
+  uint64_t mutated() const { return mutated_; }
+
+  // The next packet: renumbered (sequence, RTP time, and a fresh ntp-64 capture time, as a
+  // live sender's), then with `mutate` percent probability mutated 1..3 ways.
+  const std::vector<uint8_t>& next(int mutate_percent) {
+    const std::size_t k = index_ % corpus_.size();
+    const uint64_t cycle = index_ / corpus_.size();
+    ++index_;
+    p_ = corpus_[k];
+    const uint16_t seq = uint16_t(sequence_++);
+    p_[2] = uint8_t(seq >> 8);
+    p_[3] = uint8_t(seq);
+    uint32_t ts =
+        (uint32_t{p_[4]} << 24) | (uint32_t{p_[5]} << 16) | (uint32_t{p_[6]} << 8) | p_[7];
+    ts += uint32_t(cycle * span_ts_);
+    for (int i = 0; i < 4; ++i) p_[4 + i] = uint8_t(ts >> (24 - 8 * i));
+    RtpPacketView v;
+    std::span<const uint8_t> ntp;
+    if (parse_rtp_packet(p_, v) == RtpPacketError::kNone &&
+        find_rtp_extension(v, kNtp64ExtensionId, ntp) && ntp.size() == 8) {
+      const uint64_t t = unix_ns_to_ntp64(realtime_ns() - 5'000'000);
+      uint8_t* at = p_.data() + (ntp.data() - p_.data());
+      for (int i = 0; i < 8; ++i) at[i] = uint8_t(t >> (56 - 8 * i));
+    }
+    if (int(rng_() % 100) >= mutate_percent) return p_;
+    ++mutated_;
+    const int ways = 1 + int(rng_() % 3);
+    for (int w = 0; w < ways; ++w) mutate_once();
+    return p_;
+  }
+
+ private:
+  std::size_t payload_offset() const {
+    RtpPacketView v;
+    if (parse_rtp_packet(p_, v) != RtpPacketError::kNone || v.payload.empty()) return 0;
+    return std::size_t(v.payload.data() - p_.data());
+  }
+  void mutate_once() {
+    const std::size_t size = p_.size();
+    switch (rng_() % 10) {
+      case 0:  // flip 1..4 bytes anywhere
+        for (int i = 0, n = 1 + int(rng_() % 4); i < n && size > 0; ++i)
+          p_[rng_() % size] ^= uint8_t(1 + rng_() % 255);
+        break;
+      case 1:  // truncate
+        p_.resize(rng_() % (size + 1));
+        break;
+      case 2: {  // append garbage
+        const int n = 1 + int(rng_() % 64);
+        for (int i = 0; i < n; ++i) p_.push_back(uint8_t(rng_()));
+        break;
+      }
+      case 3:  // a sequence number from anywhere
+        if (size >= 4) {
+          p_[2] = uint8_t(rng_());
+          p_[3] = uint8_t(rng_());
+        }
+        break;
+      case 4:  // marker bit toggled
+        if (size >= 2) p_[1] ^= 0x80;
+        break;
+      case 5: {  // a FU-A with random start/end bits and NAL type
+        const std::size_t at = payload_offset();
+        if (at != 0 && at + 1 < p_.size()) {
+          p_[at] = uint8_t((p_[at] & 0xE0) | 28);
+          p_[at + 1] = uint8_t(rng_());
+        }
+        break;
+      }
+      case 6: {  // any NAL unit type (STAP, MTAP, reserved ...)
+        const std::size_t at = payload_offset();
+        if (at != 0 && at < p_.size()) p_[at] = uint8_t((p_[at] & 0xE0) | (rng_() % 32));
+        break;
+      }
+      case 7:  // the extension block's bytes (element headers and values)
+        if (size > 16) p_[16 + rng_() % std::min<std::size_t>(size - 16, 40)] = uint8_t(rng_());
+        break;
+      case 8:  // version, padding, extension and CSRC-count bits
+        if (size >= 1) p_[0] = uint8_t(rng_());
+        break;
+      case 9:  // header only, or a payload of one byte
+        p_.resize(std::min(size, payload_offset() + (rng_() % 2)));
+        break;
+    }
+  }
+
+  const std::vector<std::vector<uint8_t>>& corpus_;
+  std::mt19937_64 rng_;
+  std::vector<uint8_t> p_;
+  uint64_t index_ = 0, mutated_ = 0;
+  uint32_t sequence_ = 1000, span_ts_ = 0;
+};
+
+class DepayloadFuzz : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    ensure_gstreamer();
+    corpus_ = new std::vector<std::vector<uint8_t>>(record_stream());
+  }
+  static void TearDownTestSuite() { delete corpus_; }
+  static std::vector<std::vector<uint8_t>>* corpus_;
+};
+std::vector<std::vector<uint8_t>>* DepayloadFuzz::corpus_ = nullptr;
+
+TEST_F(DepayloadFuzz, AMillionMutatedPacketsThroughTheChecksAndTheDepayloaderAreAllAccountedFor) {
+  ASSERT_GE(corpus_->size(), std::size_t(kFrames));
+  GError* error = nullptr;
+  const std::string d =
+      "appsrc name=src is-live=false block=true max-bytes=262144 format=time "
+      "caps=\"application/x-rtp,media=video,clock-rate=90000,encoding-name=H264,payload=96\" ! " +
+      depayloader_description() + " ! fakesink name=sink sync=false async=false";
+  GstElement* pipeline = gst_parse_launch(d.c_str(), &error);
+  ASSERT_NE(pipeline, nullptr);
+  ASSERT_EQ(error, nullptr) << error->message;
+  GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline), "src");
+  GstElement* depay = gst_bin_get_by_name(GST_BIN(pipeline), rtp_elements::kDepayloader);
+  GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline), "sink");
+  std::atomic<uint64_t> into_depay{0}, access_units{0};
+  auto count = [](GstPad*, GstPadProbeInfo*, gpointer n) {
+    static_cast<std::atomic<uint64_t>*>(n)->fetch_add(1);
+    return GST_PAD_PROBE_OK;
+  };
+  GstPad* in = gst_element_get_static_pad(depay, "sink");
+  GstPad* out = gst_element_get_static_pad(sink, "sink");
+  gst_pad_add_probe(in, GST_PAD_PROBE_TYPE_BUFFER, count, &into_depay, nullptr);
+  gst_pad_add_probe(out, GST_PAD_PROBE_TYPE_BUFFER, count, &access_units, nullptr);
+  gst_object_unref(in);
+  gst_object_unref(out);
+  ASSERT_NE(gst_element_set_state(pipeline, GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  Mutator m(*corpus_, 20261202);
+  uint64_t refused = 0, accepted = 0, stamps = 0, stamp_errors = 0;
+  for (uint64_t i = 0; i < kDepayPackets; ++i) {
+    const std::vector<uint8_t>& p = m.next(60);
+    RtpPacketView v;
+    if (parse_rtp_packet(p, v) != RtpPacketError::kNone ||
+        check_h264_payload(v.payload) != RtpPacketError::kNone) {  // what RtpCamera drops
+      ++refused;
+      continue;
+    }
+    RtpFrameStamp s;
+    if (v.has_extension) (read_frame_stamp(v, s) == StampError::kNone ? stamps : stamp_errors)++;
+    ++accepted;
+    GstBuffer* b = gst_buffer_new_memdup(p.data(), p.size());
+    GST_BUFFER_PTS(b) = i * GST_MSECOND;
+    ASSERT_EQ(gst_app_src_push_buffer(GST_APP_SRC(src), b), GST_FLOW_OK) << "packet " << i;
+  }
+  gst_app_src_end_of_stream(GST_APP_SRC(src));
+  GstBus* bus = gst_element_get_bus(pipeline);
+  GstMessage* msg = gst_bus_timed_pop_filtered(
+      bus, 600 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  ASSERT_NE(msg, nullptr);
+  EXPECT_EQ(GST_MESSAGE_TYPE(msg), GST_MESSAGE_EOS);
+  gst_message_unref(msg);
+  gst_object_unref(bus);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf(
+      "%llu packets (%llu mutated) in %.1f s: %llu refused by the parser, %llu to the "
+      "depayloader (%llu with a stamp, %llu stamps refused), %llu access units out\n",
+      static_cast<unsigned long long>(kDepayPackets), static_cast<unsigned long long>(m.mutated()),
+      seconds, static_cast<unsigned long long>(refused), static_cast<unsigned long long>(accepted),
+      static_cast<unsigned long long>(stamps), static_cast<unsigned long long>(stamp_errors),
+      static_cast<unsigned long long>(access_units.load()));
+  EXPECT_EQ(refused + accepted, kDepayPackets);
+  EXPECT_EQ(into_depay.load(), accepted);  // every accepted packet reached the depayloader
+  EXPECT_GT(refused, 0u);
+  EXPECT_GT(stamp_errors, 0u);
+  EXPECT_GT(access_units.load(), 0u);  // the clean packets still make frames
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(src);
+  gst_object_unref(depay);
+  gst_object_unref(sink);
+  gst_object_unref(pipeline);
+}
+
+// DISABLED, known broken (docs/network.md): the camera's udpsrc thread stops after a few hundred
+// mutated datagrams (blocked downstream, no bus error), so the rest is never counted and video
+// never comes back. Run it with --gtest_also_run_disabled_tests.
+TEST_F(DepayloadFuzz,
+       DISABLED_MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndVideoComesBack) {
+  ASSERT_GE(corpus_->size(), std::size_t(kFrames));
+  const uint16_t port = testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  RtpReceiveConfig rc;
+  rc.listen = {"127.0.0.1", port};
+  RtpCamera cam(rc);
+  cam.negotiate({kWidth, kHeight, {}, 0.0});
+  cam.start();
+  UdpSocket out(0);
+  ASSERT_GE(out.fd, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  to.sin_port = htons(port);
+
+  // What the render loop sees, polling the mailbox.
+  uint64_t shown = 0, older_than_shown = 0;
+  int64_t newest_ns = 0;
+  auto poll = [&] {
+    if (!cam.frames().fetch()) return;
+    const int64_t t = cam.frames().latest().host_timestamp_ns;
+    if (t <= newest_ns || t > monotonic_now_ns()) ++older_than_shown;
+    newest_ns = std::max(newest_ns, t);
+    ++shown;
+  };
+  Mutator m(*corpus_, 7);
+  uint64_t sent = 0, send_failed = 0;
+  auto send = [&](uint64_t n, int mutate_percent) {
+    for (uint64_t i = 0; i < n; ++i) {
+      const std::vector<uint8_t>& p = m.next(mutate_percent);
+      if (p.empty()) continue;  // udpsrc skips an empty datagram itself: nothing to count
+      if (::sendto(out.fd, p.data(), p.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to) <
+          0) {
+        ++send_failed;
+        continue;
+      }
+      ++sent;
+      // In batches the socket buffer holds: until the camera has counted them, or 100 ms
+      // (pacing only: a few datagrams never reach udpsrc's pad, see below).
+      if (sent % 16 != 0) continue;
+      const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(100);
+      while (cam.stats().packets < sent && std::chrono::steady_clock::now() < until) {
+        poll();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+    }
+  };
+  send(kCameraPackets, 60);
+  const uint64_t shown_in_fuzz = shown;
+  // Then the clean stream (two passes: its key frames): video again.
+  send(2 * corpus_->size(), 0);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (shown == shown_in_fuzz && std::chrono::steady_clock::now() < until) {
+    poll();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_GT(shown, shown_in_fuzz) << "no video after the fuzz";
+  const RtpCameraStats s = cam.stats();
+  std::printf(
+      "%llu datagrams sent (%llu mutated), %llu received: %llu malformed, %llu to GStreamer; "
+      "%llu frames published, "
+      "%llu shown during the fuzz, %llu not newer dropped, %llu bus errors\n",
+      static_cast<unsigned long long>(sent), static_cast<unsigned long long>(m.mutated()),
+      static_cast<unsigned long long>(s.packets),
+      static_cast<unsigned long long>(s.malformed_total),
+      static_cast<unsigned long long>(s.accepted),
+      static_cast<unsigned long long>(s.frames_published),
+      static_cast<unsigned long long>(shown_in_fuzz), static_cast<unsigned long long>(s.not_newer),
+      static_cast<unsigned long long>(s.bus_errors));
+  // Every datagram is counted and accounted for (refused by reason, or passed on).
+  EXPECT_EQ(s.accepted + s.malformed_total, s.packets);
+  EXPECT_EQ(s.packets, sent);
+  std::printf("%llu sendto calls failed\n", static_cast<unsigned long long>(send_failed));
+  EXPECT_GT(s.malformed_total, 0u);
+  EXPECT_EQ(older_than_shown, 0u);  // never an older frame presented as new
+  cam.stop();
+}
+
+}  // namespace
+}  // namespace hd::drivers
