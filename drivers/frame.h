@@ -5,6 +5,8 @@
 #include <string_view>
 #include <vector>
 
+#include "drivers/frame_calibration.h"
+
 namespace hd::drivers {
 
 /// Pixel layouts a device may deliver; converters turn each into kRgba8, the renderer's format
@@ -36,6 +38,9 @@ struct Frame {
   int64_t host_timestamp_ns = 0;    ///< CLOCK_MONOTONIC: exposure if the device time is trusted,
                                     ///< else arrival
   bool device_time_trusted = false;
+  /// The calibration this frame was taken with, from the source (present only for a network
+  /// camera whose sender streams it); else the station's calibration file applies.
+  FrameCalibration calibration;
   std::vector<uint8_t> data;
 
   /// Allocates `data` for an RGBA8 image of this size (outside the per-frame path).

@@ -83,7 +83,8 @@ FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
       " (RTCP " + std::to_string(config_.listen.port + 1) + "), jitter buffer " +
       std::to_string(config_.jitter_buffer_latency_ms) + " ms, NACK " +
       (config_.retransmission ? "on" : "off") +
-      "; p_c from the station's calibration file; capture time = arrival time for a "
+      "; p_c from the station's calibration file for a plain sender, p_c and P_c from the "
+      "stream when its sender sends them (hybrid-remote); capture time = arrival time for a "
       "plain RTP sender (it stamps none), the sender's ntp-64 stamp for hybrid-remote "
       "(sender's CLOCK_REALTIME mapped through this host's: same host or NTP/PTP-"
       "synchronised hosts assumed)" +
@@ -312,11 +313,27 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
   RtpPacketView view;
   RtpFrameStamp stamp;
   StampError e = StampError::kNoNtp;
+  std::optional<StreamCalibration> calibration;
+  CalibrationError ce = CalibrationError::kNone;
   const bool parsed =
       parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view) == RtpPacketError::kNone;
-  if (parsed && view.has_extension) e = read_frame_stamp(view, stamp);
+  if (parsed && view.has_extension) {
+    e = read_frame_stamp(view, stamp);
+    ce = read_packet_calibration(view, stamp.camera, calibration);
+  }
   gst_buffer_unmap(buffer, &map);
   if (!parsed || !view.has_extension) return;  // a plain sender: nothing to read
+  if (ce != CalibrationError::kNone) {
+    calibration_errors_[static_cast<std::size_t>(ce)].fetch_add(1, std::memory_order_relaxed);
+  } else if (calibration) {
+    calibrations_received_.fetch_add(1, std::memory_order_relaxed);
+    std::lock_guard lock(stamp_mutex_);
+    if (!calibrations_[0] || calibrations_[0]->revision != calibration->revision) {
+      for (std::size_t i = calibrations_.size() - 1; i > 0; --i)
+        calibrations_[i] = calibrations_[i - 1];
+    }
+    calibrations_[0] = calibration;
+  }
   if (e != StampError::kNone) {
     stamp_errors_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
     return;
@@ -328,13 +345,17 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
   if (!GST_CLOCK_TIME_IS_VALID(pts)) return;
   const int64_t capture_mono = *stamp.capture_unix_ns - realtime_minus_monotonic_ns();
+  const bool has_revision = stamp.camera.has_value();
+  const uint32_t revision = has_revision ? stamp.camera->calibration_revision : 0;
   std::lock_guard lock(stamp_mutex_);
   for (StampSlot& s : stamps_)
     if (s.pts == pts) {
       s.capture_mono_ns = capture_mono;
+      s.has_revision = has_revision;
+      s.revision = revision;
       return;
     }
-  stamps_[stamp_next_] = {pts, capture_mono};
+  stamps_[stamp_next_] = {pts, capture_mono, has_revision, revision};
   stamp_next_ = (stamp_next_ + 1) % stamps_.size();
 }
 
@@ -418,13 +439,26 @@ void RtpCamera::on_sample(GstElement* sink) {
   }
   int64_t capture_ns = 0;
   bool stamped = false;
+  slot.calibration = {};
   if (GST_CLOCK_TIME_IS_VALID(pts)) {
     std::lock_guard lock(stamp_mutex_);
     for (const StampSlot& s : stamps_)
       if (s.pts == pts) {
         capture_ns = s.capture_mono_ns;
         stamped = true;
+        if (!s.has_revision) continue;
+        for (const std::optional<StreamCalibration>& c : calibrations_)
+          if (c && c->revision == s.revision) {
+            slot.calibration = {true, c->revision, c->p_c, c->T_world_cam};
+            break;
+          }
       }
+  }
+  if (slot.calibration.present &&
+      (slot.calibration.p_c.width != w || slot.calibration.p_c.height != h)) {
+    calibration_size_mismatch_.fetch_add(1, std::memory_order_relaxed);
+    gst_sample_unref(sample);
+    return;
   }
   if (stamped && capture_ns > arrival_ns) {
     capture_after_arrival_.fetch_add(1, std::memory_order_relaxed);
@@ -449,8 +483,10 @@ void RtpCamera::on_sample(GstElement* sink) {
     slot.device_time_trusted = false;
   }
   gst_sample_unref(sample);
+  const bool calibrated = slot.calibration.present;
   mailbox_->publish();
   frames_published_.fetch_add(1, std::memory_order_relaxed);
+  if (calibrated) frames_with_calibration_.fetch_add(1, std::memory_order_relaxed);
   key_frame_requested_.store(false, std::memory_order_release);
   timings_.push(
       {sequence_, stamped ? capture_ns : arrival_ns, arrival_ns, monotonic_now_ns(), stamped});
@@ -532,6 +568,17 @@ RtpCameraStats RtpCamera::stats() const {
     const uint64_t in = well_formed_.load(std::memory_order_relaxed);
     // Packets in srtpdec's hands a moment ago count as neither: rejected never grows from them.
     s.srtp_rejected = in > s.srtp_decrypted ? in - s.srtp_decrypted : 0;
+  }
+  for (std::size_t i = 0; i < s.calibration_errors.size(); ++i) {
+    s.calibration_errors[i] = calibration_errors_[i].load(std::memory_order_relaxed);
+    s.calibration_errors_total += s.calibration_errors[i];
+  }
+  s.calibrations_received = calibrations_received_.load(std::memory_order_relaxed);
+  s.frames_with_calibration = frames_with_calibration_.load(std::memory_order_relaxed);
+  s.calibration_size_mismatch = calibration_size_mismatch_.load(std::memory_order_relaxed);
+  {
+    std::lock_guard lock(stamp_mutex_);
+    s.calibration = calibrations_[0];
   }
   s.last_camera_index = last_camera_index_.load(std::memory_order_relaxed);
   s.last_calibration_revision = last_revision_.load(std::memory_order_relaxed);

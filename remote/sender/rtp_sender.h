@@ -2,29 +2,37 @@
 // One camera's outgoing RTP H.264 stream at the remote site: frames in, stamped packets out.
 
 #include <gst/gst.h>
+#include <gst/rtp/rtp.h>
 
+#include <array>
 #include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
 
 #include "drivers/frame.h"
+#include "drivers/rtp/rtp_calibration.h"
 #include "remote/sender/rtp_send_config.h"
 
 namespace hd::remote {
 
 struct RtpSenderStats {
   uint64_t frames_pushed = 0;
-  uint64_t frames_refused = 0;   ///< wrong size, or captured before the pipeline started
-  uint64_t packets_stamped = 0;  ///< packets that got the camera-state element
-  uint64_t frames_stamped = 0;   ///< encoded frames that got their capture time (ntp-64)
+  uint64_t frames_refused = 0;            ///< wrong size, or captured before the pipeline started
+  uint64_t packets_stamped = 0;           ///< packets that got the camera-state element
+  uint64_t frames_stamped = 0;            ///< encoded frames that got their capture time (ntp-64)
+  uint64_t packets_with_calibration = 0;  ///< last packets of frames that got the calibration
 };
 
 /// Builds send_pipeline_description(), adds GStreamer's rtphdrextntp64 (id 1, every packet) to
 /// the payloader and the camera-state element (id 2, drivers/rtp/rtp_frame_stamp.h) to every
-/// packet, then takes RGBA frames with push(). Each frame's capture time (its host_timestamp_ns,
-/// CLOCK_MONOTONIC) is sent as CLOCK_REALTIME in NTP format (RFC 6051 ntp-64), so a station on
-/// another host with synchronised clocks can map it; the frame's PTS on the pipeline (also
-/// CLOCK_MONOTONIC) is its capture time, so the encoder sees the real frame spacing.
+/// packet, and, when the config has p_c, the calibration element (id 3,
+/// drivers/rtp/rtp_calibration.h) to the last packet of every frame (the marker packet, which
+/// then uses RFC 8285's two-byte form for all its elements), then takes RGBA frames with push().
+/// Each frame's capture time (its host_timestamp_ns, CLOCK_MONOTONIC) is sent as CLOCK_REALTIME in
+/// NTP format (RFC 6051 ntp-64), so a station on another host with synchronised clocks can map it;
+/// the frame's PTS on the pipeline (also CLOCK_MONOTONIC) is its capture time, so the encoder sees
+/// the real frame spacing.
 class RtpSender {
  public:
   explicit RtpSender(RtpSendConfig config);
@@ -38,6 +46,12 @@ class RtpSender {
   /// blocks (a full queue drops its oldest frame). False when refused.
   bool push(const drivers::Frame& f);
 
+  /// A new p_c / P_c (a recalibration, or a camera that moved): the revision goes up by one and
+  /// the next frames carry it. Any thread. False when it cannot be sent (not a valid pinhole or
+  /// pose, a distortion count other than 0/4/5/8).
+  bool set_calibration(const core::Pinhole& p_c, const core::Pose& T_world_cam);
+  uint32_t calibration_revision() const { return revision_.load(std::memory_order_acquire); }
+
   RtpSenderStats stats() const;
   const RtpSendConfig& config() const { return config_; }
   std::string description() const;
@@ -46,13 +60,21 @@ class RtpSender {
   GstPadProbeReturn on_encoded(GstPadProbeInfo* info);
   GstPadProbeReturn on_packets(GstPadProbeInfo* info);
   bool stamp_packet(GstBuffer* buffer);
+  bool add_calibration(GstRTPBuffer& rtp);
+  bool set_calibration(const core::Pinhole& p_c, const core::Pose& T_world_cam, bool next_revision);
 
   RtpSendConfig config_;
   GstElement* pipeline_ = nullptr;
   GstElement* appsrc_ = nullptr;
   GstClockTime base_time_ = 0;
   bool playing_ = false;
-  std::atomic<uint64_t> pushed_{0}, refused_{0}, packets_stamped_{0}, frames_stamped_{0};
+  std::atomic<uint64_t> pushed_{0}, refused_{0}, packets_stamped_{0}, frames_stamped_{0},
+      packets_calibrated_{0};
+  std::atomic<uint32_t> revision_{0};
+  // The encoded calibration element (set_calibration's thread -> the streaming thread).
+  std::mutex calibration_mutex_;
+  std::array<uint8_t, drivers::kCalibrationMaxSize> calibration_element_{};
+  std::size_t calibration_size_ = 0;
 };
 
 }  // namespace hd::remote

@@ -55,6 +55,12 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  n.camera.c_str(), n.packets, n.malformed, n.security.c_str(), n.srtp_rejected,
                  n.frames_stamped, n.frames_unstamped, n.pli_sent, n.nack_sent,
                  n.last_error.empty() ? "" : "; last error: ", n.last_error.c_str());
+  for (const RunSummary::NetworkCamera& n : s.network_cameras)
+    std::fprintf(out,
+                 "  network camera %-12s calibration: %s; %" PRIu64
+                 " calibration elements refused, %" PRIu64 " frames not shown for want of one\n",
+                 n.camera.c_str(), n.calibration.c_str(), n.calibration_errors,
+                 n.frames_uncalibrated);
   for (std::size_t i = 0; i < s.camera_unusable.size() && i < s.camera_names.size(); ++i) {
     double total_s = 0.0;
     for (const UnusableInterval& u : s.camera_unusable[i])
@@ -153,6 +159,11 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                        {"pli_sent", n.pli_sent},
                        {"nack_sent", n.nack_sent},
                        {"last_error", n.last_error}});
+  for (std::size_t i = 0; i < s.network_cameras.size() && i < network.size(); ++i) {
+    network[i]["calibration"] = s.network_cameras[i].calibration;
+    network[i]["calibration_errors"] = s.network_cameras[i].calibration_errors;
+    network[i]["frames_uncalibrated"] = s.network_cameras[i].frames_uncalibrated;
+  }
   j["network_cameras"] = network;
   j["head"] = {{"accepted", s.pose_accepted},
                {"rejected", s.pose_rejected},

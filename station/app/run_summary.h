@@ -36,6 +36,10 @@ struct RunSummary {
     uint64_t packets = 0, bytes = 0, malformed = 0, srtp_rejected = 0, frames_stamped = 0,
              frames_unstamped = 0, not_newer = 0, bus_errors = 0, pli_sent = 0, nack_sent = 0;
     std::string last_error;
+    /// Where its p_c / P_c came from at the end: "stream (revision N)", "file F", or "none
+    /// (no calibration arrived)"; calibration elements refused; frames not shown for want of one.
+    std::string calibration;
+    uint64_t calibration_errors = 0, frames_uncalibrated = 0;
   };
   std::vector<NetworkCamera> network_cameras;
   /// Per camera: the stretches in which its video was withheld (too old, source not streaming).

@@ -93,6 +93,7 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
     cam.max_video_age_s = max_age_s;
     p->cameras.push_back(cam);
     p->camera_names.push_back(id);
+    p->camera_calibration_files.push_back(sc.calibration_file);
     opened_names.push_back(sc.name);
     p->pipelines.push_back(std::move(pipe));
   }
