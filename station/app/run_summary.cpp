@@ -73,7 +73,8 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                "  frames with a camera's video withheld as too old or not streaming: %" PRIu64 "\n",
                s.frames_stale_blocked);
   if (!s.camera_events.empty())
-    std::fprintf(out, "  camera format events: %zu\n", s.camera_events.size());
+    std::fprintf(out, "  camera events (format, calibration from the stream): %zu\n",
+                 s.camera_events.size());
   for (const CameraEventRecord& e : s.camera_events)
     std::fprintf(out, "  %s\n", CameraEventLog::line(e).c_str() + 2);
   std::fprintf(out,
