@@ -247,9 +247,11 @@ int main(int argc, char** argv) {
   ImageRgba8 exact, radial1, radial2, scalar1, table1, table2;
   for (ImageRgba8* i : {&exact, &radial1, &radial2, &scalar1, &table1, &table2})
     i->allocate(warp.panel_width(), warp.panel_height());
-  CpuPredistorter pd1(warp, 1), pd2(warp, 2), pd_scalar(warp, 1, false);
-  CpuPredistorter tb1(warp, 1, true, Method::kPositionTable),
-      tb2(warp, 2, true, Method::kPositionTable);
+  using Simd = CpuPredistorter::Simd;
+  CpuPredistorter pd1(warp, 1), pd2(warp, 2), pd_scalar(warp, 1, Simd::kNone);
+  CpuPredistorter av1(warp, 1, Simd::kAvx2), av2(warp, 2, Simd::kAvx2);
+  CpuPredistorter tb1(warp, 1, Simd::kBest, Method::kPositionTable),
+      tb2(warp, 2, Simd::kBest, Method::kPositionTable);
   const Maps maps = make_maps(warp);
 
   // Interleaved rounds, so that a burst of load elsewhere on the machine hits every variant.

@@ -245,8 +245,117 @@ __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, u
   }
 }
 
+// The AVX-512 (F, BW, VBMI) form of radial_span_avx2: 16 pixels per group, a 64-bit gather lane
+// per texel pair in pixel order (8 per instruction), and one vpermt2b per row of texels picking
+// the channel's two bytes of all 16 pairs into 16-bit words. The same integer arithmetic.
+// GCC 12 warns that its own _mm512_undefined_* pass-through operands of the unmasked
+// conversions and square root "may be used uninitialized" (a false positive in the headers).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+struct Taps16 {
+  __m512i idx, wx, fy;
+};
+
+__attribute__((target("avx512f,avx512bw,avx512vbmi,avx2,fma"))) void radial_span_avx512(
+    const RadialArgs& a, uint32_t* out, int x, int end, int half_offset) {
+  constexpr int kChunk = 8;
+  const int stride4 = a.stride / 4;
+  const __m512i x_min = _mm512_set1_epi32(a.x_lo * 256),
+                x_max = _mm512_set1_epi32(a.x_hi * 256 - 1);
+  const __m512i y_max = _mm512_set1_epi32(a.y_hi * 256 - 1);
+  const __m512i zero = _mm512_setzero_si512(), m255 = _mm512_set1_epi32(255);
+  const __m512i alpha = _mm512_set1_epi32(static_cast<int>(0xFF000000u));
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512 d0x = _mm512_set1_ps(a.d0x), kx = _mm512_set1_ps(a.kx);
+  const __m512 dy = _mm512_set1_ps(a.dy), ry2 = _mm512_set1_ps(a.ry2);
+  const __m512 top_coeff = _mm512_set1_ps(a.ratio[a.ratio_terms - 1]);
+  __m512 gx[3], gy[3];
+  __m512i pick[3];  // per pixel p: bytes 8p + c and 8p + 4 + c of the two gathered registers
+  for (int c = 0; c < 3; ++c) {
+    gx[c] = _mm512_set1_ps(a.gain256[c][0]);
+    gy[c] = _mm512_set1_ps(a.gain256[c][1]);
+    alignas(64) uint8_t sel[64];
+    for (int p = 0; p < 16; ++p) {
+      sel[4 * p] = static_cast<uint8_t>(8 * p + c);
+      sel[4 * p + 1] = 0;
+      sel[4 * p + 2] = static_cast<uint8_t>(8 * p + 4 + c);
+      sel[4 * p + 3] = 0;
+    }
+    pick[c] = _mm512_load_si512(sel);
+  }
+  const __mmask64 even_bytes = 0x5555555555555555ull;
+  const __m512 ox = _mm512_set1_ps(a.origin256[0]), oy = _mm512_set1_ps(a.origin256[1]);
+  const __m256i row = _mm256_set1_epi32(stride4);
+  const __m512i stride4v = _mm512_set1_epi32(stride4);
+  Taps16 taps[kChunk][3];
+  while (x < end) {
+    const int groups = std::min(kChunk, (end - x + 15) / 16);
+    for (int g = 0; g < groups; ++g) {
+      const __m512i col = _mm512_add_epi32(_mm512_set1_epi32(x + 16 * g - half_offset), iota);
+      const __m512 dx = _mm512_add_ps(_mm512_cvtepi32_ps(col), d0x);
+      const __m512 rx = _mm512_mul_ps(dx, kx);
+      const __m512 r = _mm512_sqrt_ps(_mm512_fmadd_ps(rx, rx, ry2));
+      __m512 t = top_coeff;
+      for (int i = a.ratio_terms - 2; i >= 0; --i)
+        t = _mm512_fmadd_ps(t, r, _mm512_set1_ps(a.ratio[i]));
+      const __m512 ax = _mm512_mul_ps(t, dx), ay = _mm512_mul_ps(t, dy);
+      for (int c = 0; c < 3; ++c) {
+        __m512i X = _mm512_cvttps_epi32(_mm512_fmadd_ps(ax, gx[c], ox));
+        __m512i Y = _mm512_cvttps_epi32(_mm512_fmadd_ps(ay, gy[c], oy));
+        X = _mm512_min_epi32(_mm512_max_epi32(X, x_min), x_max);
+        Y = _mm512_min_epi32(_mm512_max_epi32(Y, zero), y_max);
+        const __m512i fx = _mm512_and_si512(X, m255);
+        taps[g][c].idx = _mm512_add_epi32(_mm512_mullo_epi32(_mm512_srai_epi32(Y, 8), stride4v),
+                                          _mm512_srai_epi32(X, 8));
+        taps[g][c].wx = _mm512_sub_epi32(
+            _mm512_add_epi32(_mm512_slli_epi32(fx, 16), _mm512_set1_epi32(256)), fx);
+        taps[g][c].fy = _mm512_and_si512(Y, m255);
+      }
+    }
+    for (int g = 0; g < groups; ++g, x += 16) {
+      __m512i ch[3];
+      for (int c = 0; c < 3; ++c) {
+        const Taps16& tp = taps[g][c];
+        const __m256i lo = _mm512_castsi512_si256(tp.idx),
+                      hi = _mm512_extracti64x4_epi64(tp.idx, 1);
+        const __m512i t0 = _mm512_i32gather_epi64(lo, a.base, 4);
+        const __m512i t1 = _mm512_i32gather_epi64(hi, a.base, 4);
+        const __m512i b0 = _mm512_i32gather_epi64(_mm256_add_epi32(lo, row), a.base, 4);
+        const __m512i b1 = _mm512_i32gather_epi64(_mm256_add_epi32(hi, row), a.base, 4);
+        const __m512i top_w = _mm512_maskz_permutex2var_epi8(even_bytes, t0, pick[c], t1);
+        const __m512i bottom_w = _mm512_maskz_permutex2var_epi8(even_bytes, b0, pick[c], b1);
+        const __m512i top = _mm512_madd_epi16(top_w, tp.wx);
+        const __m512i bottom = _mm512_madd_epi16(bottom_w, tp.wx);
+        const __m512i sum = _mm512_add_epi32(
+            _mm512_add_epi32(_mm512_slli_epi32(top, 8),
+                             _mm512_mullo_epi32(_mm512_sub_epi32(bottom, top), tp.fy)),
+            _mm512_set1_epi32(32768));
+        ch[c] = _mm512_srli_epi32(sum, 16);
+      }
+      const __m512i rg = _mm512_or_si512(ch[0], _mm512_slli_epi32(ch[1], 8));
+      const __m512i px = _mm512_ternarylogic_epi32(rg, _mm512_slli_epi32(ch[2], 16), alpha, 0xFE);
+      if (end - x >= 16) {
+        _mm512_storeu_si512(out + x, px);
+      } else {
+        const __mmask16 keep = static_cast<__mmask16>((1u << (end - x)) - 1u);
+        _mm512_mask_storeu_epi32(out + x, keep, px);
+      }
+    }
+  }
+}
+
+#pragma GCC diagnostic pop
+
 bool cpu_has_avx2() {
   static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return has;
+}
+
+bool cpu_has_avx512() {
+  static const bool has = cpu_has_avx2() && __builtin_cpu_supports("avx512f") &&
+                          __builtin_cpu_supports("avx512bw") &&
+                          __builtin_cpu_supports("avx512vbmi");
   return has;
 }
 #endif
@@ -285,10 +394,11 @@ uint64_t wait_change(const std::atomic<uint64_t>& a, uint64_t old, bool spin) {
 
 }  // namespace
 
-CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, bool simd, Method method)
+CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, Simd simd, Method method)
     : warp_(warp), method_(method), threads_(std::clamp(threads, 1, 2)) {
 #if HD_LENS_AVX2
-  simd_ = simd && cpu_has_avx2();
+  if (simd != Simd::kNone && cpu_has_avx2()) simd_ = Simd::kAvx2;
+  if (simd == Simd::kBest && method_ == Method::kRadial && cpu_has_avx512()) simd_ = Simd::kAvx512;
 #else
   (void)simd;
 #endif
@@ -472,7 +582,7 @@ void CpuPredistorter::band(int row_begin, int row_end) {
       for (; x < s.begin; ++x) out[x] = 0xFF000000u;  // opaque black (RGBA bytes 0, 0, 0, 255)
       if (method_ == Method::kRadial) {
 #if HD_LENS_AVX2
-        if (simd_) {
+        if (simd_ != Simd::kNone) {
           const RadialEye& r = radial_[e];
           const float dy = static_cast<float>(y) + r.d0[1];
           const float ry = dy * r.k[1];
@@ -489,14 +599,17 @@ void CpuPredistorter::band(int row_begin, int row_end) {
                              e * ew,
                              e * ew + ew - 1,
                              warp_.eye_height() - 1};
-          radial_span_avx2(a, out, x, s.end, e * hw);
+          if (simd_ == Simd::kAvx512)
+            radial_span_avx512(a, out, x, s.end, e * hw);
+          else
+            radial_span_avx2(a, out, x, s.end, e * hw);
           x = s.end;
         }
 #endif
         radial_span_scalar(y, e, x, s.end, out);
       } else {
 #if HD_LENS_AVX2
-        if (simd_) {
+        if (simd_ != Simd::kNone) {
           const int32_t* pos =
               positions_.data() + static_cast<std::size_t>(y) * warp_.panel_width() * 2;
           x = span_avx2(eyes_->data.data(), eyes_->stride_bytes, pos, out, x, s.end,

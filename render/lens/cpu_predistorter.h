@@ -36,10 +36,11 @@ namespace hd::render::lens {
 class CpuPredistorter {
  public:
   enum class Method { kRadial, kPositionTable };
+  /// Row kernels, all giving the same bytes: kBest takes the widest the CPU has (kRadial has an
+  /// AVX-512 F/BW/VBMI one, both methods an AVX2 + FMA one), kAvx2 at most AVX2, kNone scalar.
+  enum class Simd { kNone, kAvx2, kAvx512, kBest };
 
-  /// `simd`: use the AVX2 row kernel when the CPU has AVX2 and FMA (the same bytes as the scalar
-  /// one).
-  CpuPredistorter(const LensWarp& warp, int threads = 1, bool simd = true,
+  CpuPredistorter(const LensWarp& warp, int threads = 1, Simd simd = Simd::kBest,
                   Method method = Method::kRadial);
   ~CpuPredistorter();
   CpuPredistorter(const CpuPredistorter&) = delete;
@@ -60,6 +61,8 @@ class CpuPredistorter {
 
   const LensWarp& warp() const { return warp_; }
   Method method() const { return method_; }
+  /// The row kernel in use (kNone, kAvx2 or kAvx512).
+  Simd simd() const { return simd_; }
   /// The first row of the worker's band (threads = 2), chosen for equal numbers of usable pixels.
   int split_row() const { return split_row_; }
 
@@ -101,7 +104,7 @@ class CpuPredistorter {
   const ImageRgba8* eyes_ = nullptr;  ///< valid during apply only
   ImageRgba8* panel_ = nullptr;
 
-  bool simd_ = false;
+  Simd simd_ = Simd::kNone;
   int threads_ = 1;
   std::thread worker_;
   // Each on its own cache line: the caller writes job_ while the worker writes done_.

@@ -79,7 +79,8 @@ TEST(CpuPredistorter, SamplePointsMatchTheLensModel) {
     HmdProfile p = load_hmd_profile(kDir + name);
     p.aberration = {0.985, 1.0, 1.015};
     const LensWarp w(p);
-    const CpuPredistorter radial(w, 1), table(w, 1, true, CpuPredistorter::Method::kPositionTable);
+    const CpuPredistorter radial(w, 1),
+        table(w, 1, CpuPredistorter::Simd::kBest, CpuPredistorter::Method::kPositionTable);
     double worst_radial = 0, worst_table = 0;
     int n = 0;
     for (int e = 0; e < 2; ++e)
@@ -108,12 +109,21 @@ TEST(CpuPredistorter, RowKernelGivesTheScalarBytes) {
   ImageRgba8 a, b;
   a.allocate(w.panel_width(), w.panel_height());
   b.allocate(w.panel_width(), w.panel_height());
+  using Simd = CpuPredistorter::Simd;
   for (const auto method :
        {CpuPredistorter::Method::kRadial, CpuPredistorter::Method::kPositionTable}) {
-    CpuPredistorter simd(w, 2, true, method), scalar(w, 1, false, method);
-    ASSERT_TRUE(simd.apply(eyes, a));
+    CpuPredistorter scalar(w, 1, Simd::kNone, method);
+    ASSERT_EQ(scalar.simd(), Simd::kNone);
     ASSERT_TRUE(scalar.apply(eyes, b));
-    EXPECT_EQ(a.data, b.data) << "method " << static_cast<int>(method);
+    // Every kernel this CPU has (AVX2, and AVX-512 for kRadial), 1 and 2 threads.
+    for (const Simd level : {Simd::kAvx2, Simd::kBest})
+      for (int threads : {1, 2}) {
+        CpuPredistorter simd(w, threads, level, method);
+        std::fill(a.data.begin(), a.data.end(), 0);
+        ASSERT_TRUE(simd.apply(eyes, a));
+        EXPECT_EQ(a.data, b.data) << "method " << static_cast<int>(method) << ", kernel "
+                                  << static_cast<int>(simd.simd()) << ", threads " << threads;
+      }
   }
 }
 
