@@ -123,11 +123,14 @@ struct Taps8 {
   __m256i idx, wx, fy;
 };
 
+template <bool kClamp>
 __attribute__((target("avx2,fma"))) inline Taps8 taps8(int stride4, __m256i X, __m256i Y,
                                                        __m256i x_min, __m256i x_max,
                                                        __m256i y_max) {
-  X = _mm256_min_epi32(_mm256_max_epi32(X, x_min), x_max);
-  Y = _mm256_min_epi32(_mm256_max_epi32(Y, _mm256_setzero_si256()), y_max);
+  if (kClamp) {
+    X = _mm256_min_epi32(_mm256_max_epi32(X, x_min), x_max);
+    Y = _mm256_min_epi32(_mm256_max_epi32(Y, _mm256_setzero_si256()), y_max);
+  }
   const __m256i m255 = _mm256_set1_epi32(255);
   const __m256i idx =
       _mm256_add_epi32(_mm256_mullo_epi32(_mm256_srai_epi32(Y, 8), _mm256_set1_epi32(stride4)),
@@ -183,6 +186,7 @@ struct RadialArgs {
 // core overlap more groups' gathers. The last partial group is computed whole and stored under
 // a mask (its extra lanes are clamped into the eye like any other sample, so they read inside
 // the image).
+template <bool kClamp>
 __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, uint32_t* out, int x,
                                                           int end, int half_offset) {
   constexpr int kChunk = 16;
@@ -226,8 +230,8 @@ __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, u
       const __m256 ax = _mm256_mul_ps(t, dx), ay = _mm256_mul_ps(t, dy);
       for (int c = 0; c < 3; ++c)
         taps[g][c] =
-            taps8(stride4, _mm256_cvttps_epi32(_mm256_fmadd_ps(ax, gx[c], ox)),
-                  _mm256_cvttps_epi32(_mm256_fmadd_ps(ay, gy[c], oy)), x_min, x_max, y_max);
+            taps8<kClamp>(stride4, _mm256_cvttps_epi32(_mm256_fmadd_ps(ax, gx[c], ox)),
+                          _mm256_cvttps_epi32(_mm256_fmadd_ps(ay, gy[c], oy)), x_min, x_max, y_max);
     }
     for (int g = 0; g < groups; ++g, x += 8) {
       const __m256i r = fetch8_pairs(b64, stride4, taps[g][0], pick_lo[0], pick_hi[0]);
@@ -257,6 +261,7 @@ struct Taps16 {
   __m512i idx, wx, fy;
 };
 
+template <bool kClamp>
 __attribute__((target("avx512f,avx512bw,avx512vbmi,avx2,fma"))) void radial_span_avx512(
     const RadialArgs& a, uint32_t* out, int x, int end, int half_offset) {
   constexpr int kChunk = 8;
@@ -303,8 +308,10 @@ __attribute__((target("avx512f,avx512bw,avx512vbmi,avx2,fma"))) void radial_span
       for (int c = 0; c < 3; ++c) {
         __m512i X = _mm512_cvttps_epi32(_mm512_fmadd_ps(ax, gx[c], ox));
         __m512i Y = _mm512_cvttps_epi32(_mm512_fmadd_ps(ay, gy[c], oy));
-        X = _mm512_min_epi32(_mm512_max_epi32(X, x_min), x_max);
-        Y = _mm512_min_epi32(_mm512_max_epi32(Y, zero), y_max);
+        if (kClamp) {
+          X = _mm512_min_epi32(_mm512_max_epi32(X, x_min), x_max);
+          Y = _mm512_min_epi32(_mm512_max_epi32(Y, zero), y_max);
+        }
         const __m512i fx = _mm512_and_si512(X, m255);
         taps[g][c].idx = _mm512_add_epi32(_mm512_mullo_epi32(_mm512_srai_epi32(Y, 8), stride4v),
                                           _mm512_srai_epi32(X, 8));
@@ -459,6 +466,25 @@ CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, Simd simd, M
     r.origin256[1] = static_cast<float>(256.0 * (warp_.eye(e).cy - 0.5));
   }
 
+  // A span whose every sample point, including the extra lanes of its last group of 16, lies
+  // where the clamp leaves it unchanged runs the kernels without the clamp (the same bytes).
+  for (int y = 0; y < ph; ++y)
+    for (int e = 0; e < 2; ++e) {
+      Span& s = spans_[static_cast<std::size_t>(y) * 2 + e];
+      const float x_min = 256.0f * static_cast<float>(e * ew),
+                  x_max = 256.0f * static_cast<float>(e * ew + ew - 1);
+      const float y_max = 256.0f * static_cast<float>(warp_.eye_height() - 1);
+      const int len = s.end - s.begin;
+      bool inside = len > 0;
+      for (int x = s.begin; inside && x < s.begin + (len + 15) / 16 * 16; ++x) {
+        float X[3], Y[3];
+        radial_points(y, e, x - e * hw, X, Y);
+        for (int c = 0; c < 3; ++c)
+          inside = inside && X[c] >= x_min && X[c] < x_max && Y[c] >= 0.0f && Y[c] < y_max;
+      }
+      s.clamp_free = inside;
+    }
+
   for (int c = 0; c < 3; ++c)
     scale_fixed_[c] = static_cast<int32_t>(std::lround(warp_.channel_scale(c) * 65536.0));
   for (int e = 0; e < 2; ++e) {
@@ -523,29 +549,38 @@ bool CpuPredistorter::apply(const ImageRgba8& eyes, ImageRgba8& panel) {
   return true;
 }
 
-void CpuPredistorter::radial_span_scalar(int y, int e, int x, int end, uint32_t* out) const {
+void CpuPredistorter::radial_points(int y, int e, int x_half, float* X, float* Y) const {
+  // The AVX2 / AVX-512 kernels' arithmetic, operation for operation (std::fma rounds once, like
+  // vfmadd; the kernels square ry in scalar code too).
   const RadialEye& r = radial_[e];
+  const float dy = static_cast<float>(y) + r.d0[1];
+  const float ry = dy * r.k[1];
+  const float ry2 = ry * ry;
+  const float dx = static_cast<float>(x_half) + r.d0[0];
+  const float rx = dx * r.k[0];
+  const float rr = std::sqrt(std::fma(rx, rx, ry2));
+  float t = ratio_[ratio_terms_ - 1];
+  for (int i = ratio_terms_ - 2; i >= 0; --i) t = std::fma(t, rr, ratio_[i]);
+  const float ax = t * dx, ay = t * dy;
+  for (int c = 0; c < 3; ++c) {
+    X[c] = std::fma(ax, r.gain256[c][0], r.origin256[0]);
+    Y[c] = std::fma(ay, r.gain256[c][1], r.origin256[1]);
+  }
+}
+
+void CpuPredistorter::radial_span_scalar(int y, int e, int x, int end, uint32_t* out) const {
   const int ew = warp_.eye_width(), half = e * warp_.eye_panel_width();
   const int x_lo = e * ew, x_hi = e * ew + ew - 1, y_hi = warp_.eye_height() - 1;
   const uint8_t* base = eyes_->data.data();
   const int stride = eyes_->stride_bytes;
-  // The AVX2 kernel's arithmetic, operation for operation (std::fma rounds once, like vfmadd).
-  const float dy = static_cast<float>(y) + r.d0[1];
-  const float ry = dy * r.k[1];
-  const float ry2 = ry * ry;
   for (; x < end; ++x) {
-    const float dx = static_cast<float>(x - half) + r.d0[0];
-    const float rx = dx * r.k[0];
-    const float rr = std::sqrt(std::fma(rx, rx, ry2));
-    float t = ratio_[ratio_terms_ - 1];
-    for (int i = ratio_terms_ - 2; i >= 0; --i) t = std::fma(t, rr, ratio_[i]);
-    const float ax = t * dx, ay = t * dy;
+    float X[3], Y[3];
+    radial_points(y, e, x - half, X, Y);
     uint32_t px = 0xFF000000u;
-    for (int c = 0; c < 3; ++c) {
-      const int X = static_cast<int>(std::fma(ax, r.gain256[c][0], r.origin256[0]));
-      const int Y = static_cast<int>(std::fma(ay, r.gain256[c][1], r.origin256[1]));
-      px |= sample_fixed(base, stride, X, Y, c, x_lo, x_hi, y_hi) << (8 * c);
-    }
+    for (int c = 0; c < 3; ++c)
+      px |= sample_fixed(base, stride, static_cast<int>(X[c]), static_cast<int>(Y[c]), c, x_lo,
+                         x_hi, y_hi)
+            << (8 * c);
     out[x] = px;
   }
 }
@@ -600,9 +635,11 @@ void CpuPredistorter::band(int row_begin, int row_end) {
                              e * ew + ew - 1,
                              warp_.eye_height() - 1};
           if (simd_ == Simd::kAvx512)
-            radial_span_avx512(a, out, x, s.end, e * hw);
+            (s.clamp_free ? radial_span_avx512<false> : radial_span_avx512<true>)(a, out, x, s.end,
+                                                                                  e * hw);
           else
-            radial_span_avx2(a, out, x, s.end, e * hw);
+            (s.clamp_free ? radial_span_avx2<false> : radial_span_avx2<true>)(a, out, x, s.end,
+                                                                              e * hw);
           x = s.end;
         }
 #endif
@@ -625,19 +662,18 @@ void CpuPredistorter::band(int row_begin, int row_end) {
   }
 }
 
+int CpuPredistorter::clamp_free_spans() const {
+  return static_cast<int>(
+      std::count_if(spans_.begin(), spans_.end(), [](const Span& s) { return s.clamp_free; }));
+}
+
 void CpuPredistorter::sample_point(int e, int x, int y, int c, double* u, double* v) const {
   const int ew = warp_.eye_width();
   if (method_ == Method::kRadial) {
-    const RadialEye& r = radial_[e];
-    const float dy = static_cast<float>(y) + r.d0[1];
-    const float ry = dy * r.k[1];
-    const float dx = static_cast<float>(x) + r.d0[0];
-    const float rx = dx * r.k[0];
-    const float rr = std::sqrt(std::fma(rx, rx, ry * ry));
-    float t = ratio_[ratio_terms_ - 1];
-    for (int i = ratio_terms_ - 2; i >= 0; --i) t = std::fma(t, rr, ratio_[i]);
-    *u = std::fma(t * dx, r.gain256[c][0], r.origin256[0]) / 256.0 + 0.5 - e * ew;
-    *v = std::fma(t * dy, r.gain256[c][1], r.origin256[1]) / 256.0 + 0.5;
+    float X[3], Y[3];
+    radial_points(y, e, x, X, Y);
+    *u = X[c] / 256.0 + 0.5 - e * ew;
+    *v = Y[c] / 256.0 + 0.5;
     return;
   }
   const std::size_t i =

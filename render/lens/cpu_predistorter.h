@@ -63,12 +63,15 @@ class CpuPredistorter {
   Method method() const { return method_; }
   /// The row kernel in use (kNone, kAvx2 or kAvx512).
   Simd simd() const { return simd_; }
+  /// How many (row, eye) spans run the kernels without the clamp (kRadial; for the tests).
+  int clamp_free_spans() const;
   /// The first row of the worker's band (threads = 2), chosen for equal numbers of usable pixels.
   int split_row() const { return split_row_; }
 
  private:
   struct Span {
-    int begin = 0, end = 0;  ///< usable panel columns [begin, end) of one eye in one row
+    int begin = 0, end = 0;   ///< usable panel columns [begin, end) of one eye in one row
+    bool clamp_free = false;  ///< kRadial: no sample point of the kernels' groups needs the clamp
   };
   /// kRadial's constants of one eye, single precision (the kernels' arithmetic):
   /// d = float(column in the half) + d0, r = sqrt(fma(d.x k.x, d.x k.x, (d.y k.y)^2)),
@@ -82,6 +85,9 @@ class CpuPredistorter {
   static constexpr int kMaxRatioTerms = 11;  ///< HmdProfile allows 12 coefficients
 
   void band(int row_begin, int row_end);
+  /// kRadial's fixed-point sample points (before truncation) of half column x_half, channels
+  /// R, G, B: the arithmetic of every kernel.
+  void radial_points(int y, int eye, int x_half, float* X, float* Y) const;
   void radial_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
   void table_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
   void worker_loop();
