@@ -336,11 +336,11 @@ int main(int argc, char** argv) {
   row("peer: OpenCV remap, green map for all channels, 1 thread", maps.green_only_error_px,
       std::nan(""), t_cv1);
   std::printf(
-      "\nmedian wall of the best of %d interleaved rounds; split row of the 2-thread bands: %d of "
-      "%d\nradius / previous table: %.3f (1 thread), %.3f (2 threads); radius / OpenCV 3-map "
+      "\nmedian wall of the best of %d interleaved rounds\nradius / previous table: %.3f (1 "
+      "thread), %.3f (2 threads); radius / OpenCV 3-map "
       "remap: %.3f; radius / green-only remap: %.3f\n",
-      rounds, pd2.split_row(), warp.panel_height(), t1.wall_ms / tt1.wall_ms,
-      t2.wall_ms / tt2.wall_ms, t1.wall_ms / t_cv3.wall_ms, t1.wall_ms / t_cv1.wall_ms);
+      rounds, t1.wall_ms / tt1.wall_ms, t2.wall_ms / tt2.wall_ms, t1.wall_ms / t_cv3.wall_ms,
+      t1.wall_ms / t_cv1.wall_ms);
   std::printf("2 threads: %s the issue's 1.5 ms (median %.3f ms); load average %s",
               t2.wall_ms <= 1.5 ? "within" : "over", t2.wall_ms, load_average().c_str());
 

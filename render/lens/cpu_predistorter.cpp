@@ -380,8 +380,9 @@ bool sizes_fit(const LensWarp& w, const ImageRgba8& eyes, const ImageRgba8& pane
 constexpr auto kSpin = std::chrono::microseconds(200);
 
 // Waits until `a` != `old` (spinning for at most kSpin first); returns the new value.
-uint64_t wait_change(const std::atomic<uint64_t>& a, uint64_t old, bool spin) {
-  uint64_t v = a.load(std::memory_order_acquire);
+template <typename T>
+T wait_change(const std::atomic<T>& a, T old, bool spin) {
+  T v = a.load(std::memory_order_acquire);
   if (spin && v == old) {
     const auto until = std::chrono::steady_clock::now() + kSpin;
     for (int i = 0; v == old; ++i) {
@@ -427,28 +428,6 @@ CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, Simd simd, M
       }
     }
   }
-  // Equal work for the two bands: the usable pixels, plus the black ones at an eighth.
-  std::vector<double> work(static_cast<std::size_t>(ph), 0.0);
-  double total = 0.0;
-  for (int y = 0; y < ph; ++y) {
-    double w = 0.0;
-    for (int e = 0; e < 2; ++e) {
-      const Span& s = spans_[static_cast<std::size_t>(y) * 2 + e];
-      w += (s.end - s.begin) + 0.125 * (hw - (s.end - s.begin));
-    }
-    work[static_cast<std::size_t>(y)] = w;
-    total += w;
-  }
-  split_row_ = ph / 2;
-  double acc = 0.0;
-  for (int y = 0; y < ph; ++y) {
-    acc += work[static_cast<std::size_t>(y)];
-    if (acc >= 0.5 * total) {
-      split_row_ = std::clamp(y + 1, 1, std::max(1, ph - 1));
-      break;
-    }
-  }
-
   const std::vector<double>& k = warp_.profile().coefficients;
   ratio_terms_ = std::clamp(static_cast<int>(k.size()) - 1, 1, kMaxRatioTerms);
   for (int i = 0; i < ratio_terms_; ++i)
@@ -524,9 +503,20 @@ void CpuPredistorter::worker_loop() {
     // Frames come a display period apart: sleep on the atomic rather than spin between them.
     seen = wait_change(job_, seen, false);
     if (quit_.load()) return;
-    band(split_row_, warp_.panel_height());
-    done_.store(seen, std::memory_order_release);
-    done_.notify_one();
+    take_rows();
+  }
+}
+
+void CpuPredistorter::take_rows() {
+  const int h = warp_.panel_height();
+  for (;;) {
+    // acq_rel: a successful claim sees the frame apply() published before resetting next_row_.
+    const int r = next_row_.fetch_add(kRowsPerTake, std::memory_order_acq_rel);
+    if (r >= h) return;
+    const int end = std::min(h, r + kRowsPerTake);
+    band(r, end);
+    if (rows_done_.fetch_add(end - r, std::memory_order_acq_rel) + (end - r) == h)
+      rows_done_.notify_one();
   }
 }
 
@@ -536,11 +526,13 @@ bool CpuPredistorter::apply(const ImageRgba8& eyes, ImageRgba8& panel) {
   panel_ = &panel;
   const int h = warp_.panel_height();
   if (threads_ == 2 && h >= 2) {
-    const uint64_t my_job = job_.fetch_add(1, std::memory_order_release) + 1;
+    rows_done_.store(0, std::memory_order_relaxed);
+    next_row_.store(0, std::memory_order_release);
+    job_.fetch_add(1, std::memory_order_release);
     job_.notify_one();
-    band(0, split_row_);
-    for (uint64_t d = done_.load(std::memory_order_acquire); d != my_job;)
-      d = wait_change(done_, d, true);
+    take_rows();
+    for (int d = rows_done_.load(std::memory_order_acquire); d != h;)
+      d = wait_change(rows_done_, d, true);
   } else {
     band(0, h);
   }

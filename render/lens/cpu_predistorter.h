@@ -30,9 +30,10 @@ namespace hd::render::lens {
 ///    offset from the eye's principal point scaled by aberration[c] / aberration[G] in 16.16
 ///    fixed point.
 ///
-/// apply() allocates nothing; with threads = 2 the rows are split into two bands of equal work
-/// (usable pixels), one done by a persistent worker woken through an atomic; the caller spins
-/// briefly for the worker's band before it sleeps on the atomic.
+/// apply() allocates nothing; with threads = 2 the caller and a persistent worker (woken through
+/// an atomic) claim rows four at a time from a shared counter, so the work splits evenly whatever
+/// the rows cost and however late the worker wakes (or, on a busy machine, the caller does them
+/// all); the caller spins briefly for the last rows before it sleeps on the atomic.
 class CpuPredistorter {
  public:
   enum class Method { kRadial, kPositionTable };
@@ -65,8 +66,6 @@ class CpuPredistorter {
   Simd simd() const { return simd_; }
   /// How many (row, eye) spans run the kernels without the clamp (kRadial; for the tests).
   int clamp_free_spans() const;
-  /// The first row of the worker's band (threads = 2), chosen for equal numbers of usable pixels.
-  int split_row() const { return split_row_; }
 
  private:
   struct Span {
@@ -91,11 +90,13 @@ class CpuPredistorter {
   void radial_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
   void table_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
   void worker_loop();
+  /// Claims kRowsPerTake rows at a time from next_row_ until none are left (both threads).
+  void take_rows();
+  static constexpr int kRowsPerTake = 4;
 
   LensWarp warp_;
   Method method_ = Method::kRadial;
   std::vector<Span> spans_;  ///< [row * 2 + eye]
-  int split_row_ = 0;
 
   RadialEye radial_[2];
   float ratio_[kMaxRatioTerms] = {};  ///< ratio(r) = sum ratio_[i] r^i (coefficients[i + 1])
@@ -113,9 +114,10 @@ class CpuPredistorter {
   Simd simd_ = Simd::kNone;
   int threads_ = 1;
   std::thread worker_;
-  // Each on its own cache line: the caller writes job_ while the worker writes done_.
+  // Each on its own cache line: both threads claim rows and count them done at the same time.
   alignas(64) std::atomic<uint64_t> job_{0};
-  alignas(64) std::atomic<uint64_t> done_{0};
+  alignas(64) std::atomic<int> next_row_{1 << 30};  ///< nothing to claim outside apply()
+  alignas(64) std::atomic<int> rows_done_{0};
   alignas(64) std::atomic<bool> quit_{false};
 };
 
