@@ -8,6 +8,8 @@
 
 #include "calib/calibration_file.h"
 #include "calib/corner_detector.h"
+#include "calib/image_set.h"
+#include "calib/larger_board_probe.h"
 #include "test_support.h"
 
 namespace hd::calib::test {
@@ -78,6 +80,34 @@ TEST(RealData, OpencvLeftReproducesPublishedCalibration) {
   EXPECT_NEAR(K[0], f.pinhole.fx, 1e-6);
   EXPECT_NEAR(K[2], file_camera_matrix(out)(0, 2), 1e-6);  // both OpenCV's convention
   EXPECT_TRUE(fs::file_size(tmp.path() / "left.png") > 10000);
+}
+
+// The cheap larger-board probe on real photos of a board known to be 9x6 (OpenCV's left*.jpg,
+// whose outer squares are cut by the board's edge): with --board 9x6 no view's checker goes on
+// past an edge, with --board 8x6 (a part of the board) every view where the pattern is found
+// has one more column beyond an edge.
+TEST(RealData, LargerBoardProbeSeesTheRestOfTheBoardAndOnlyThat) {
+  const auto images = load_image_set(data_dir("opencv-left"), "left*");
+  ASSERT_EQ(images.size(), 13u);
+  DetectorOptions opt;
+  opt.check_larger = false;
+  opt.use_sb_fallback = false;
+  int found9 = 0, found8 = 0;
+  for (const auto& im : images) {
+    const Board b9 = Board::parse("9x6", 0.025), b8 = Board::parse("8x6", 0.025);
+    const Detection d9 = detect_corners(im.gray, b9, opt);
+    ASSERT_TRUE(d9.found()) << im.name;
+    ++found9;
+    const LargerBoardProbe p9 = probe_beyond_edges(im.gray, b9, d9.corners);
+    EXPECT_FALSE(p9.continues) << im.name << " 9x6";
+    EXPECT_GE(p9.sides_sampled, 3) << im.name;
+    const Detection d8 = detect_corners(im.gray, b8, opt);
+    if (!d8.found()) continue;
+    ++found8;
+    EXPECT_TRUE(probe_beyond_edges(im.gray, b8, d8.corners).continues) << im.name << " 8x6";
+  }
+  EXPECT_EQ(found9, 13);
+  EXPECT_GE(found8, 8);  // the classic detector finds an 8x6 part in 11 of the 13 here
 }
 
 TEST(RealData, WebcamUsesAllViewsWarnsPrincipalPointAndGivesAPose) {
