@@ -1,7 +1,6 @@
 // `hybrid-calib intrinsics`: folder (or live camera) -> calibration file, report, warnings.
 #include <cstdio>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "calib/atomic_file.h"
@@ -9,6 +8,7 @@
 #include "calib/camera_factory.h"
 #include "calib/commands.h"
 #include "calib/corner_detector.h"
+#include "calib/image_file.h"
 #include "calib/image_set.h"
 #include "calib/intrinsics_assessment.h"
 #include "calib/larger_board_probe.h"
@@ -286,9 +286,9 @@ int calibrate_and_write(const Args& a, const Board& board, const DistortionModel
       std::printf("wrote %s (ROS camera_info)\n", a.ros.c_str());
     }
     if (!a.report.empty()) {
-      std::vector<uchar> png;
-      cv::imencode(".png", render_report(background, views, rep.result, rep.coverage), png);
-      write_file_atomically(a.report, std::string(png.begin(), png.end()), a.force);
+      write_file_atomically(a.report,
+                            encode_png(render_report(background, views, rep.result, rep.coverage)),
+                            a.force);
       std::printf("wrote %s (report picture)\n", a.report.c_str());
     }
   } catch (const OutputExists& e) {
