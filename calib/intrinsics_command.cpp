@@ -66,9 +66,9 @@ void print_summary(const IntrinsicsReport& rep) {
               t.detection_s - t.larger_check_s, t.calibration_s);
   std::printf(
       "  cpu, quality figures: larger-board check %.4f s (edge probe %.4f s, SB confirmation "
-      "%.4f s on %d views), sigma with the calibration, cross-validation %.3f s%s, coverage + "
-      "warnings %.4f s\n",
-      t.larger_check_s, t.larger_probe_s, t.larger_confirm_s, t.larger_confirmations,
+      "%.4f s on %d views), sigma %.4f s, cross-validation %.3f s%s, coverage + warnings %.4f "
+      "s\n",
+      t.larger_check_s, t.larger_probe_s, t.larger_confirm_s, t.larger_confirmations, t.sigma_s,
       t.cross_validation_s, rep.cross_validation.computed ? "" : " (not run)", t.coverage_s);
   std::printf("  cpu, process so far (start-up included): %.3f s\n", process_cpu_s());
 }

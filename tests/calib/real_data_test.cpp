@@ -9,6 +9,8 @@
 #include "calib/calibration_file.h"
 #include "calib/corner_detector.h"
 #include "calib/image_set.h"
+#include "calib/intrinsics_calibration.h"
+#include "calib/intrinsics_uncertainty.h"
 #include "calib/larger_board_probe.h"
 #include "test_support.h"
 
@@ -108,6 +110,50 @@ TEST(RealData, LargerBoardProbeSeesTheRestOfTheBoardAndOnlyThat) {
   }
   EXPECT_EQ(found9, 13);
   EXPECT_GE(found8, 8);  // the classic detector finds an 8x6 part in 11 of the 13 here
+}
+
+// The parameters' sigma through the Schur complement (calib/intrinsics_uncertainty.h) against
+// calibrateCameraExtended's own, which inverts the whole normal matrix, on the 13 shared views,
+// for each distortion model with and without a fixed aspect ratio.
+TEST(RealData, SigmaMatchesCalibrateCameraExtended) {
+  const Board board = Board::parse("9x6", 0.025);
+  std::vector<View> views;
+  cv::Size size;
+  for (const auto& im : load_image_set(data_dir("opencv-left"), "left*")) {
+    const Detection d = detect_corners(im.gray, board, DetectorOptions{});
+    ASSERT_TRUE(d.found()) << im.name;
+    views.push_back({im.name, d.corners});
+    size = im.gray.size();
+  }
+  for (const char* name : {"5", "fix-k3", "rational"})
+    for (const bool fix_aspect : {false, true}) {
+      DistortionModel model = DistortionModel::parse(name);
+      model.fix_aspect = fix_aspect;
+      const IntrinsicsResult r = calibrate_intrinsics(views, board, size, model, nullptr, false);
+      EXPECT_TRUE(r.std_dev_intrinsics.empty());
+      const cv::Mat ours = intrinsics_std_dev(views, board, r);
+      // The peer: the same calibration through the Extended overload.
+      std::vector<std::vector<cv::Point3f>> obj(views.size(), board.object_points());
+      std::vector<std::vector<cv::Point2f>> img;
+      for (const auto& v : views) img.push_back(v.corners);
+      cv::Mat K = cv::Mat::eye(3, 3, CV_64F), D, sd, sde, pve;
+      std::vector<cv::Mat> rv, tv;
+      cv::calibrateCamera(
+          obj, img, size, K, D, rv, tv, sd, sde, pve, model.cv_flags() | cv::CALIB_USE_LU,
+          cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, DBL_EPSILON));
+      EXPECT_NEAR(K.at<double>(0, 0), r.fx(), 1e-9 * r.fx());
+      const int n = ours.cols;
+      for (int i = 0; i < n; ++i) {
+        const double peer = sd.at<double>(i);
+        if (i == 0 && fix_aspect) {  // OpenCV reports 0; fx = fy's sigma here
+          EXPECT_EQ(peer, 0.0);
+          EXPECT_EQ(ours.at<double>(0, 0), ours.at<double>(0, 1));
+          continue;
+        }
+        EXPECT_NEAR(ours.at<double>(0, i), peer, 1e-4 * peer + 1e-12)
+            << name << (fix_aspect ? " fix-aspect" : "") << " parameter " << i;
+      }
+    }
 }
 
 TEST(RealData, WebcamUsesAllViewsWarnsPrincipalPointAndGivesAPose) {
