@@ -344,6 +344,13 @@ int run(const RunOptions& o) {
     n.pli_sent = fb.pli_sent;
     n.nack_sent = fb.nack_sent;
     n.last_error = st.last_error;
+    n.clock_mapping = drivers::to_string(st.clock.kind);
+    n.clock_offset_ns = st.clock.offset_ns;
+    n.clock_uncertainty_ns = st.clock.uncertainty_ns;
+    n.clock_round_trip_ns = st.clock.round_trip_ns;
+    n.clock_samples = st.clock.samples;
+    n.sender_reports = st.sender_reports;
+    n.capture_after_arrival = st.capture_after_arrival;
     s.network_cameras.push_back(n);
   }
   s.cameras_from = p.cameras_from;
