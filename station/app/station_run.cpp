@@ -271,6 +271,10 @@ int run(const RunOptions& o) {
     // Between frames, outside the counted tick: progress, the HUD text (OpenCV may allocate), the
     // keys.
     const int64_t now = clock.now_ns();
+    if (p.updater) {
+      const station::ModelUpdaterStats ms = p.updater->stats();
+      progress.model_done(ms.updates, ms.reconstructions);
+    }
     progress.frame_done(frame.last_row().variant, loop.frames(), loop.missed_deadlines(), now);
     camera_events.poll(event_sources, p.camera_names);
     usability.poll(frame, p.camera_names);
