@@ -309,7 +309,8 @@ int calibrate_and_write(const Args& a, const Board& board, const DistortionModel
 void add_intrinsics_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("intrinsics", "estimate p_c (pinhole + distortion) from views");
-  auto* src = cmd->add_option("--images", args->images, "folder of chessboard images");
+  auto* src = cmd->add_option("--images", args->images,
+                              "folder of chessboard images (.jpg .png .bmp .tif .pgm .ppm)");
   cmd->add_option("--pattern", args->pattern, "only files whose name matches, e.g. 'left*'")
       ->capture_default_str();
   auto* cam = cmd->add_option("--camera", args->camera,
@@ -336,6 +337,8 @@ void add_intrinsics_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_flag("--force", args->force, "replace existing outputs (old ones kept as .bak)");
   cmd->footer(
+      "Prints the CPU time of the core (images, detection, calibration) and of each extra "
+      "quality figure (larger-board check, sigma, cross-validation, coverage) apart.\n"
       "Example:\n  hybrid-calib intrinsics --images data/calib/opencv-left --board 9x6 "
       "--square 0.025 --pattern 'left*' --fix-aspect --out left.yml --report left.png");
   cmd->callback([args, cmd, &exit_code] {
