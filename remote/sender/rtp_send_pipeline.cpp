@@ -19,7 +19,9 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
   using namespace send_elements;
   const int fps_n = static_cast<int>(std::lround(c.rate_hz * 1000.0));
   std::string d;
-  d += std::string("rtpbin name=") + kRtpBin + " ";
+  // rtpsession would overwrite the ntp-64 element with its own NTP time of the buffer's running
+  // time (update-ntp64-header-ext, default true in 1.22): the capture time is push()'s.
+  d += std::string("rtpbin name=") + kRtpBin + " update-ntp64-header-ext=false ";
   d += std::string("appsrc name=") + kAppSource +
        " is-live=true format=time do-timestamp=false max-buffers=2 leaky-type=downstream "
        "caps=video/x-raw,format=RGBA,width=" +

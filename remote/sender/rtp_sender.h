@@ -18,9 +18,12 @@ namespace hd::remote {
 
 struct RtpSenderStats {
   uint64_t frames_pushed = 0;
-  uint64_t frames_refused = 0;            ///< wrong size, or captured before the pipeline started
-  uint64_t packets_stamped = 0;           ///< packets that got the camera-state element
-  uint64_t frames_stamped = 0;            ///< encoded frames that got their capture time (ntp-64)
+  uint64_t frames_refused = 0;   ///< wrong size, or captured before the pipeline started
+  uint64_t packets_stamped = 0;  ///< packets that got the camera-state element
+  uint64_t frames_stamped = 0;   ///< encoded frames that got their capture time (ntp-64)
+  uint64_t sender_reports = 0;   ///< RTCP sender reports sent
+  uint64_t round_trips = 0;      ///< round trips measured from the station's receiver reports
+  int64_t round_trip_ns = -1;    ///< the newest (-1 none yet)
   uint64_t packets_with_calibration = 0;  ///< last packets of frames that got the calibration
 };
 
@@ -30,9 +33,11 @@ struct RtpSenderStats {
 /// drivers/rtp/rtp_calibration.h) to the last packet of every frame (the marker packet, which
 /// then uses RFC 8285's two-byte form for all its elements), then takes RGBA frames with push().
 /// Each frame's capture time (its host_timestamp_ns, CLOCK_MONOTONIC) is sent as CLOCK_REALTIME in
-/// NTP format (RFC 6051 ntp-64), so a station on another host with synchronised clocks can map it;
-/// the frame's PTS on the pipeline (also CLOCK_MONOTONIC) is its capture time, so the encoder sees
-/// the real frame spacing.
+/// NTP format (RFC 6051 ntp-64), the clock of its RTCP sender reports, from which the station
+/// measures the offset between the two; the frame's PTS on the pipeline (also CLOCK_MONOTONIC) is
+/// its capture time, so the encoder sees the real frame spacing. Every packet also carries the
+/// sender-stages element (id 4): encode and send times after capture, and the newest round trip
+/// measured from the station's receiver reports.
 class RtpSender {
  public:
   explicit RtpSender(RtpSendConfig config);
@@ -62,6 +67,9 @@ class RtpSender {
   bool stamp_packet(GstBuffer* buffer);
   bool add_calibration(GstRTPBuffer& rtp);
   bool set_calibration(const core::Pinhole& p_c, const core::Pose& T_world_cam, bool next_revision);
+  GstPadProbeReturn on_rtcp_out(GstPadProbeInfo* info);
+  GstPadProbeReturn on_rtcp_in(GstBuffer* buffer);
+  int64_t sender_realtime_ns() const;  // the host's CLOCK_REALTIME + test_clock_shift_ns
 
   RtpSendConfig config_;
   GstElement* pipeline_ = nullptr;
@@ -70,6 +78,11 @@ class RtpSender {
   bool playing_ = false;
   std::atomic<uint64_t> pushed_{0}, refused_{0}, packets_stamped_{0}, frames_stamped_{0},
       packets_calibrated_{0};
+  std::atomic<uint64_t> sender_reports_{0}, round_trips_{0};
+  std::atomic<int64_t> round_trip_ns_{-1};
+  // Streaming thread of the payloader: when the frame now being packetised reached it.
+  GstClockTime encoded_pts_ = GST_CLOCK_TIME_NONE;
+  int64_t encoded_mono_ns_ = 0;
   std::atomic<uint32_t> revision_{0};
   // The encoded calibration element (set_calibration's thread -> the streaming thread).
   std::mutex calibration_mutex_;

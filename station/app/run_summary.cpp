@@ -57,6 +57,14 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  n.last_error.empty() ? "" : "; last error: ", n.last_error.c_str());
   for (const RunSummary::NetworkCamera& n : s.network_cameras)
     std::fprintf(out,
+                 "  network camera %-12s clock %s: offset %.3f ms +- %.3f ms (round trip %.3f ms,"
+                 " %" PRIu64 " samples, %" PRIu64 " sender reports), %" PRIu64
+                 " capture times after arrival\n",
+                 n.camera.c_str(), n.clock_mapping.c_str(), double(n.clock_offset_ns) * 1e-6,
+                 double(n.clock_uncertainty_ns) * 1e-6, double(n.clock_round_trip_ns) * 1e-6,
+                 n.clock_samples, n.sender_reports, n.capture_after_arrival);
+  for (const RunSummary::NetworkCamera& n : s.network_cameras)
+    std::fprintf(out,
                  "  network camera %-12s calibration: %s; %" PRIu64
                  " calibration elements refused, %" PRIu64 " frames not shown for want of one\n",
                  n.camera.c_str(), n.calibration.c_str(), n.calibration_errors,
@@ -167,10 +175,18 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                        {"pli_sent", n.pli_sent},
                        {"nack_sent", n.nack_sent},
                        {"last_error", n.last_error}});
-  for (std::size_t i = 0; i < s.network_cameras.size() && i < network.size(); ++i) {
-    network[i]["calibration"] = s.network_cameras[i].calibration;
-    network[i]["calibration_errors"] = s.network_cameras[i].calibration_errors;
-    network[i]["frames_uncalibrated"] = s.network_cameras[i].frames_uncalibrated;
+  for (std::size_t i = 0; i < s.network_cameras.size(); ++i) {
+    const RunSummary::NetworkCamera& n = s.network_cameras[i];
+    network[i]["clock"] = {{"mapping", n.clock_mapping},
+                           {"offset_ns", n.clock_offset_ns},
+                           {"uncertainty_ns", n.clock_uncertainty_ns},
+                           {"round_trip_ns", n.clock_round_trip_ns},
+                           {"samples", n.clock_samples},
+                           {"sender_reports", n.sender_reports},
+                           {"capture_after_arrival", n.capture_after_arrival}};
+    network[i]["calibration"] = n.calibration;
+    network[i]["calibration_errors"] = n.calibration_errors;
+    network[i]["frames_uncalibrated"] = n.frames_uncalibrated;
   }
   j["network_cameras"] = network;
   j["head"] = {{"accepted", s.pose_accepted},

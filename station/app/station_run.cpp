@@ -275,6 +275,10 @@ int run(const RunOptions& o) {
     // Between frames, outside the counted tick: progress, the HUD text (OpenCV may allocate), the
     // keys.
     const int64_t now = clock.now_ns();
+    if (p.updater) {
+      const station::ModelUpdaterStats ms = p.updater->stats();
+      progress.model_done(ms.updates, ms.reconstructions);
+    }
     progress.frame_done(frame.last_row().variant, loop.frames(), loop.missed_deadlines(), now);
     camera_events.poll(event_sources, p.camera_names);
     camera_events.poll_calibrations(pipelines, p.camera_names, p.camera_calibration_files);
@@ -358,6 +362,13 @@ int run(const RunOptions& o) {
                                    : "file " + file;
     n.calibration_errors = st.calibration_errors_total;
     n.frames_uncalibrated = i < p.pipelines.size() ? p.pipelines[i]->uncalibrated() : 0;
+    n.clock_mapping = drivers::to_string(st.clock.kind);
+    n.clock_offset_ns = st.clock.offset_ns;
+    n.clock_uncertainty_ns = st.clock.uncertainty_ns;
+    n.clock_round_trip_ns = st.clock.round_trip_ns;
+    n.clock_samples = st.clock.samples;
+    n.sender_reports = st.sender_reports;
+    n.capture_after_arrival = st.capture_after_arrival;
     s.network_cameras.push_back(n);
   }
   s.cameras_from = p.cameras_from;
