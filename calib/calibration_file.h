@@ -38,7 +38,8 @@ CalibrationFile read_calibration_file(const std::filesystem::path& path);
 /// Process CPU seconds of each step of `intrinsics` (printed; the default run must cost no more
 /// than OpenCV's calibration sample, bench/calib/calib_cpu_bench).
 struct IntrinsicsCpu {
-  double detection_s = 0;         ///< detection + cornerSubPix (what the sample does too)
+  double startup_s = 0;           ///< before the images: loader, initialisers, options
+  double detection_s = 0;         ///< images + detection + cornerSubPix, larger check included
   double larger_check_s = 0;      ///< the larger-board check, part of detection_s:
   double larger_probe_s = 0;      ///<   the probe beyond the edges, every view
   double larger_confirm_s = 0;    ///<   SB's confirmation, views where the checker goes on

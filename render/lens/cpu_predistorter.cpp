@@ -147,15 +147,16 @@ __attribute__((target("avx2,fma"))) inline Taps8 taps8(int stride4, __m256i X, _
 // `pick_lo` / `pick_hi` move the channel's two bytes of each pair (RGBA RGBA) into 16-bit words:
 // the gathers of lanes {0, 1, 4, 5} fill the low 8 bytes of each 128-bit lane, those of
 // {2, 3, 6, 7} the high 8, which puts the pixels back in order.
-__attribute__((target("avx2,fma"))) inline __m256i fetch8_pairs(const long long* base, int stride4,
+// `below` is `base` one row on: the same indices fetch the bottom pairs.
+__attribute__((target("avx2,fma"))) inline __m256i fetch8_pairs(const long long* base,
+                                                                const long long* below,
                                                                 const Taps8& t, __m256i pick_lo,
                                                                 __m256i pick_hi) {
   const __m128i lo = _mm256_castsi256_si128(t.idx), hi = _mm256_extracti128_si256(t.idx, 1);
-  const __m128i row = _mm_set1_epi32(stride4);
   const __m256i t_lo = _mm256_i32gather_epi64(base, lo, 4);
   const __m256i t_hi = _mm256_i32gather_epi64(base, hi, 4);
-  const __m256i b_lo = _mm256_i32gather_epi64(base, _mm_add_epi32(lo, row), 4);
-  const __m256i b_hi = _mm256_i32gather_epi64(base, _mm_add_epi32(hi, row), 4);
+  const __m256i b_lo = _mm256_i32gather_epi64(below, lo, 4);
+  const __m256i b_hi = _mm256_i32gather_epi64(below, hi, 4);
   const __m256i top_w =
       _mm256_or_si256(_mm256_shuffle_epi8(t_lo, pick_lo), _mm256_shuffle_epi8(t_hi, pick_hi));
   const __m256i bottom_w =
@@ -191,6 +192,7 @@ __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, u
                                                           int end, int half_offset) {
   constexpr int kChunk = 16;
   const long long* b64 = reinterpret_cast<const long long*>(a.base);
+  const long long* b64_below = reinterpret_cast<const long long*>(a.base + a.stride);
   const int stride4 = a.stride / 4;
   const __m256i x_min = _mm256_set1_epi32(a.x_lo * 256),
                 x_max = _mm256_set1_epi32(a.x_hi * 256 - 1);
@@ -234,9 +236,9 @@ __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, u
                           _mm256_cvttps_epi32(_mm256_fmadd_ps(ay, gy[c], oy)), x_min, x_max, y_max);
     }
     for (int g = 0; g < groups; ++g, x += 8) {
-      const __m256i r = fetch8_pairs(b64, stride4, taps[g][0], pick_lo[0], pick_hi[0]);
-      const __m256i gr = fetch8_pairs(b64, stride4, taps[g][1], pick_lo[1], pick_hi[1]);
-      const __m256i bl = fetch8_pairs(b64, stride4, taps[g][2], pick_lo[2], pick_hi[2]);
+      const __m256i r = fetch8_pairs(b64, b64_below, taps[g][0], pick_lo[0], pick_hi[0]);
+      const __m256i gr = fetch8_pairs(b64, b64_below, taps[g][1], pick_lo[1], pick_hi[1]);
+      const __m256i bl = fetch8_pairs(b64, b64_below, taps[g][2], pick_lo[2], pick_hi[2]);
       const __m256i px = _mm256_or_si256(_mm256_or_si256(r, _mm256_slli_epi32(gr, 8)),
                                          _mm256_or_si256(_mm256_slli_epi32(bl, 16), alpha));
       if (end - x >= 8) {
@@ -291,7 +293,6 @@ __attribute__((target("avx512f,avx512bw,avx512vbmi,avx2,fma"))) void radial_span
   }
   const __mmask64 even_bytes = 0x5555555555555555ull;
   const __m512 ox = _mm512_set1_ps(a.origin256[0]), oy = _mm512_set1_ps(a.origin256[1]);
-  const __m256i row = _mm256_set1_epi32(stride4);
   const __m512i stride4v = _mm512_set1_epi32(stride4);
   Taps16 taps[kChunk][3];
   while (x < end) {
@@ -328,8 +329,8 @@ __attribute__((target("avx512f,avx512bw,avx512vbmi,avx2,fma"))) void radial_span
                       hi = _mm512_extracti64x4_epi64(tp.idx, 1);
         const __m512i t0 = _mm512_i32gather_epi64(lo, a.base, 4);
         const __m512i t1 = _mm512_i32gather_epi64(hi, a.base, 4);
-        const __m512i b0 = _mm512_i32gather_epi64(_mm256_add_epi32(lo, row), a.base, 4);
-        const __m512i b1 = _mm512_i32gather_epi64(_mm256_add_epi32(hi, row), a.base, 4);
+        const __m512i b0 = _mm512_i32gather_epi64(lo, a.base + a.stride, 4);
+        const __m512i b1 = _mm512_i32gather_epi64(hi, a.base + a.stride, 4);
         const __m512i top_w = _mm512_maskz_permutex2var_epi8(even_bytes, t0, pick[c], t1);
         const __m512i bottom_w = _mm512_maskz_permutex2var_epi8(even_bytes, b0, pick[c], b1);
         const __m512i top = _mm512_madd_epi16(top_w, tp.wx);
