@@ -104,6 +104,13 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
       drivers::RtpReceiveConfig rc;
       rc.listen = *net;
       rc.listen.port = static_cast<uint16_t>(net->port + 2 * i);
+      if (p->scene_epoch_ns != 0) {
+        // A shared --scene-epoch already takes the two sites' CLOCK_REALTIME to agree (one host
+        // in the demo): capture times are mapped through it too, so a frame's time is its
+        // exposure's scene time exactly, not within an RTCP estimate's error.
+        rc.clock = drivers::RtpReceiveConfig::Clock::kSynchronized;
+        rc.clock_error_ns = 0;
+      }
       // What the link adds to a frame's age at most in the normal case: the jitter buffer and
       // one frame time each for encoding and decoding.
       link_delay_s = 1e-3 * rc.jitter_buffer_latency_ms + 2.0 / sc.rate_hz;

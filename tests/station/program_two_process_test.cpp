@@ -180,6 +180,10 @@ TEST(StationTwoProcesses, TheRemotesCamerasAreShownReconstructedAndNeverShownOld
                         std::to_string(port) + " + 2 i"),
             std::string::npos)
       << report;
+  // The shared epoch takes the clocks to agree: capture times are mapped through them as well.
+  EXPECT_NE(report.find("mapped through this host's CLOCK_REALTIME (clock: synchronized"),
+            std::string::npos)
+      << report;
   EXPECT_NE(remote.out().find("scene time: t = 0 at --scene-epoch " + std::string(epoch)),
             std::string::npos)
       << remote.out();
