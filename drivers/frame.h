@@ -5,6 +5,8 @@
 #include <string_view>
 #include <vector>
 
+#include "drivers/frame_calibration.h"
+
 namespace hd::drivers {
 
 /// Pixel layouts a device may deliver; converters turn each into kRgba8, the renderer's format
@@ -45,6 +47,9 @@ struct Frame {
     int64_t decoded_ns = 0;   ///< the station's decoder output
   };
   LinkStages link;
+  /// The calibration this frame was taken with, from the source (present only for a network
+  /// camera whose sender streams it); else the station's calibration file applies.
+  FrameCalibration calibration;
   std::vector<uint8_t> data;
 
   /// Allocates `data` for an RGBA8 image of this size (outside the per-frame path).

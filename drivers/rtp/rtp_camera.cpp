@@ -88,7 +88,8 @@ FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
       " (RTCP " + std::to_string(config_.listen.port + 1) + "), jitter buffer " +
       std::to_string(config_.jitter_buffer_latency_ms) + " ms, NACK " +
       (config_.retransmission ? "on" : "off") +
-      "; p_c from the station's calibration file; capture time = arrival time for a "
+      "; p_c from the station's calibration file for a plain sender, p_c and P_c from the "
+      "stream when its sender sends them (hybrid-remote); capture time = arrival time for a "
       "plain RTP sender (it stamps none), the sender's ntp-64 stamp for hybrid-remote, " +
       (config_.clock == RtpReceiveConfig::Clock::kSynchronized
            ? "mapped through this host's CLOCK_REALTIME (clock: synchronized, stated error " +
@@ -389,11 +390,27 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
   RtpPacketView view;
   RtpFrameStamp stamp;
   StampError e = StampError::kNoNtp;
+  std::optional<StreamCalibration> calibration;
+  CalibrationError ce = CalibrationError::kNone;
   const bool parsed =
       parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view) == RtpPacketError::kNone;
-  if (parsed && view.has_extension) e = read_frame_stamp(view, stamp);
+  if (parsed && view.has_extension) {
+    e = read_frame_stamp(view, stamp);
+    ce = read_packet_calibration(view, stamp.camera, calibration);
+  }
   gst_buffer_unmap(buffer, &map);
   if (!parsed || !view.has_extension) return;  // a plain sender: nothing to read
+  if (ce != CalibrationError::kNone) {
+    calibration_errors_[static_cast<std::size_t>(ce)].fetch_add(1, std::memory_order_relaxed);
+  } else if (calibration) {
+    calibrations_received_.fetch_add(1, std::memory_order_relaxed);
+    std::lock_guard lock(stamp_mutex_);
+    if (!calibrations_[0] || calibrations_[0]->revision != calibration->revision) {
+      for (std::size_t i = calibrations_.size() - 1; i > 0; --i)
+        calibrations_[i] = calibrations_[i - 1];
+    }
+    calibrations_[0] = calibration;
+  }
   if (e != StampError::kNone) {
     stamp_errors_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
     return;
@@ -416,6 +433,8 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
       stamp.stages ? capture_mono + int64_t(stamp.stages->encoded_us) * 1000 : 0;
   const int64_t sent = stamp.stages ? capture_mono + int64_t(stamp.stages->sent_us) * 1000 : 0;
   const int64_t now = monotonic_now_ns();
+  const bool has_revision = stamp.camera.has_value();
+  const uint32_t revision = has_revision ? stamp.camera->calibration_revision : 0;
   std::lock_guard lock(stamp_mutex_);
   for (StampSlot& s : stamps_)
     if (s.pts == pts) {  // a later packet of the frame: the frame was sent with its last one
@@ -423,9 +442,12 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
       s.encoded_ns = encoded;
       s.sent_ns = std::max(s.sent_ns, sent);
       s.uncertainty_ns = m.uncertainty_ns;
+      s.has_revision = has_revision;
+      s.revision = revision;
       return;
     }
-  stamps_[stamp_next_] = {pts, capture_mono, encoded, sent, now, m.uncertainty_ns, 0};
+  stamps_[stamp_next_] = {pts, capture_mono, encoded, sent, now, m.uncertainty_ns,
+                          0,   has_revision, revision};
   stamp_next_ = (stamp_next_ + 1) % stamps_.size();
 }
 
@@ -486,7 +508,7 @@ void RtpCamera::on_decoded(GstBuffer* buffer) {
       return;
     }
   // A plain sender's frame has no slot yet: one for its decode time only.
-  stamps_[stamp_next_] = {pts, 0, 0, 0, 0, -1, now};
+  stamps_[stamp_next_] = {pts, 0, 0, 0, 0, -1, now, false, 0};
   stamp_next_ = (stamp_next_ + 1) % stamps_.size();
 }
 
@@ -570,6 +592,7 @@ void RtpCamera::on_sample(GstElement* sink) {
   }
   int64_t capture_ns = 0;
   bool stamped = false;
+  slot.calibration = {};
   StampSlot stages;
   if (GST_CLOCK_TIME_IS_VALID(pts)) {
     std::lock_guard lock(stamp_mutex_);
@@ -578,7 +601,19 @@ void RtpCamera::on_sample(GstElement* sink) {
         stages = s;
         capture_ns = s.capture_mono_ns;
         stamped = s.capture_mono_ns != 0;
+        if (!s.has_revision) continue;
+        for (const std::optional<StreamCalibration>& c : calibrations_)
+          if (c && c->revision == s.revision) {
+            slot.calibration = {true, c->revision, c->p_c, c->T_world_cam};
+            break;
+          }
       }
+  }
+  if (slot.calibration.present &&
+      (slot.calibration.p_c.width != w || slot.calibration.p_c.height != h)) {
+    calibration_size_mismatch_.fetch_add(1, std::memory_order_relaxed);
+    gst_sample_unref(sample);
+    return;
   }
   if (stamped && capture_ns > arrival_ns) {
     capture_after_arrival_.fetch_add(1, std::memory_order_relaxed);
@@ -607,8 +642,10 @@ void RtpCamera::on_sample(GstElement* sink) {
   slot.link.received_ns = stages.received_ns;
   slot.link.decoded_ns = stages.decoded_ns;
   gst_sample_unref(sample);
+  const bool calibrated = slot.calibration.present;
   mailbox_->publish();
   frames_published_.fetch_add(1, std::memory_order_relaxed);
+  if (calibrated) frames_with_calibration_.fetch_add(1, std::memory_order_relaxed);
   key_frame_requested_.store(false, std::memory_order_release);
   RtpFrameTiming timing;
   timing.sequence = sequence_;
@@ -701,6 +738,17 @@ RtpCameraStats RtpCamera::stats() const {
     const uint64_t in = well_formed_.load(std::memory_order_relaxed);
     // Packets in srtpdec's hands a moment ago count as neither: rejected never grows from them.
     s.srtp_rejected = in > s.srtp_decrypted ? in - s.srtp_decrypted : 0;
+  }
+  for (std::size_t i = 0; i < s.calibration_errors.size(); ++i) {
+    s.calibration_errors[i] = calibration_errors_[i].load(std::memory_order_relaxed);
+    s.calibration_errors_total += s.calibration_errors[i];
+  }
+  s.calibrations_received = calibrations_received_.load(std::memory_order_relaxed);
+  s.frames_with_calibration = frames_with_calibration_.load(std::memory_order_relaxed);
+  s.calibration_size_mismatch = calibration_size_mismatch_.load(std::memory_order_relaxed);
+  {
+    std::lock_guard lock(stamp_mutex_);
+    s.calibration = calibrations_[0];
   }
   s.last_camera_index = last_camera_index_.load(std::memory_order_relaxed);
   s.last_calibration_revision = last_revision_.load(std::memory_order_relaxed);

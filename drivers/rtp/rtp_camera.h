@@ -14,6 +14,7 @@
 
 #include "drivers/camera_source.h"
 #include "drivers/rtp/clock_offset_estimator.h"
+#include "drivers/rtp/rtp_calibration.h"
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
@@ -67,6 +68,15 @@ struct RtpCameraStats {
   /// sender without encryption): never decoded, never shown.
   uint64_t srtp_decrypted = 0;
   uint64_t srtp_rejected = 0;
+  /// Calibration elements (id 3) refused, by reason (CalibrationError); the element is ignored.
+  std::array<uint64_t, static_cast<std::size_t>(CalibrationError::kCount)> calibration_errors{};
+  uint64_t calibration_errors_total = 0;
+  uint64_t calibrations_received = 0;    ///< calibration elements accepted
+  uint64_t frames_with_calibration = 0;  ///< published frames that carry the stream's calibration
+  /// Decoded frames whose size is not their calibration's image size: never published.
+  uint64_t calibration_size_mismatch = 0;
+  /// The newest accepted calibration (none: the sender sends none, or none arrived yet).
+  std::optional<StreamCalibration> calibration;
   int last_camera_index = -1;  ///< from the camera-state element; -1 none seen
   int64_t last_calibration_revision = -1;
   uint64_t restarts = 0;
@@ -98,6 +108,12 @@ struct RtpCameraStats {
 ///
 /// Liveness: no frame for stall_timeout_ns makes the state kStalled; a GStreamer error makes it
 /// kDisconnected, is counted with its text, and the pipeline is rebuilt after 0.5 s.
+///
+/// Calibration: a sender that streams p_c and P_c (hybrid-remote: the calibration element on the
+/// last packet of every frame, rtp_calibration.h) has each frame published with the calibration
+/// of its camera-state revision in Frame::calibration; a refused element is counted by reason and
+/// ignored, and a frame whose size is not its calibration's is not published (counted). Frames of
+/// a sender that sends none carry none (the station's calibration file applies).
 ///
 /// Bad input: every UDP datagram on the RTP port is checked with parse_rtp_packet and its H.264
 /// payload with check_h264_payload (after srtpdec with a key) before the depayloader sees it; a
@@ -206,8 +222,16 @@ class RtpCamera final : public CameraSource {
     int64_t received_ns = 0;              // its first packet at the depayloader
     int64_t uncertainty_ns = -1;
     int64_t decoded_ns = 0;
+    bool has_revision = false;  // the packets' camera-state revision
+    uint32_t revision = 0;
   };
-  std::mutex stamp_mutex_;
+  // The newest accepted calibrations (newest first), looked up by a frame's revision.
+  std::array<std::optional<StreamCalibration>, 4> calibrations_{};
+  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(CalibrationError::kCount)>
+      calibration_errors_{};
+  std::atomic<uint64_t> calibrations_received_{0}, frames_with_calibration_{0},
+      calibration_size_mismatch_{0};
+  mutable std::mutex stamp_mutex_;
   // The sender-clock estimate: sender reports from the RTCP thread, round trips from the
   // depayloader's.
   mutable std::mutex clock_mutex_;

@@ -135,4 +135,31 @@ bool find_rtp_extension(const RtpPacketView& p, uint8_t id, std::span<const uint
   return found;
 }
 
+std::size_t to_two_byte_block(std::span<const uint8_t> one_byte_block, uint8_t extra_id,
+                              std::span<const uint8_t> extra, std::span<uint8_t> out) {
+  if (extra_id == 0 || extra.size() > 255) return 0;
+  std::size_t at = 0;
+  bool fits = true;
+  auto put = [&](uint8_t id, std::span<const uint8_t> d) {
+    if (at + 2 + d.size() > out.size()) {
+      fits = false;
+      return true;
+    }
+    out[at] = id;
+    out[at + 1] = static_cast<uint8_t>(d.size());
+    for (std::size_t i = 0; i < d.size(); ++i) out[at + 2 + i] = d[i];
+    at += 2 + d.size();
+    return false;
+  };
+  if (!walk_elements(0xBEDE, one_byte_block, put)) return 0;
+  if (!fits) return 0;
+  put(extra_id, extra);
+  if (!fits) return 0;
+  while (at % 4 != 0) {
+    if (at >= out.size()) return 0;
+    out[at++] = 0;
+  }
+  return at;
+}
+
 }  // namespace hd::drivers

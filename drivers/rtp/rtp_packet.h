@@ -55,4 +55,13 @@ RtpPacketError parse_rtp_packet(std::span<const uint8_t> packet, RtpPacketView& 
 /// when the packet has no such element. Call only on a packet parse_rtp_packet accepted.
 bool find_rtp_extension(const RtpPacketView& p, uint8_t id, std::span<const uint8_t>& data);
 
+/// The RFC 8285 elements of a one-byte-form block (`one_byte_block`, after 0xBEDE and its length)
+/// rewritten in the two-byte form (profile 0x1000, RFC 8285 4.3) with element `extra_id` =
+/// `extra` appended, zero-padded to whole 32-bit words, into `out`: how an element longer than 16
+/// bytes joins a packet that already carries one-byte elements (one packet has one form). Returns
+/// the bytes written (a multiple of 4); 0 when the block is malformed, `extra` is longer than 255
+/// bytes, `extra_id` is 0, or `out` is too small.
+std::size_t to_two_byte_block(std::span<const uint8_t> one_byte_block, uint8_t extra_id,
+                              std::span<const uint8_t> extra, std::span<uint8_t> out);
+
 }  // namespace hd::drivers

@@ -1,6 +1,7 @@
 // hybrid-remote: the program at the robot's site. Streams each camera to the station as RTP
 // H.264 (issue 12): `--scene FILE` renders the simulator's cameras, so the whole system runs as
-// two processes on one machine. Camera i goes to rtp://HOST:(PORT + 2 i).
+// two processes on one machine (camera i goes to rtp://HOST:(PORT + 2 i)); `--config remote.yaml`
+// sends the site's real cameras (remote/app/config_run.h).
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
@@ -13,8 +14,10 @@
 #include <vector>
 
 #include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/rtp_calibration.h"
 #include "drivers/rtp/rtp_uri.h"
 #include "drivers/rtp/srtp_key.h"
+#include "remote/app/config_run.h"
 #include "remote/sender/rtp_sender.h"
 #include "sim/scene/config_error.h"
 #include "sim/scene/scene_file.h"
@@ -35,15 +38,21 @@ int main(int argc, char** argv) {
       "hybrid-remote: streams the remote site's cameras to the operator's station as RTP H.264 "
       "(x264enc zerolatency, rtpbin with RTCP), every packet stamped with the frame's capture "
       "time (RFC 6051 ntp-64) and the camera's state (index, calibration revision)"};
-  std::string scene_file;
+  std::string scene_file, config_file;
   std::string to = "rtp://127.0.0.1:5600";
   double seconds = 0.0;
   int bitrate_kbps = 4000;
   double key_interval_s = 0.5;
-  app.add_option("--scene", scene_file,
-                 "scene file whose simulated cameras are sent (e.g. scenes/default.yaml)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  auto* scene_opt =
+      app.add_option("--scene", scene_file,
+                     "scene file whose simulated cameras are sent (e.g. scenes/default.yaml)")
+          ->check(CLI::ExistingFile);
+  app.add_option("--config", config_file,
+                 "remote.yaml: the site's real cameras by driver id (mock, /dev/videoN, a GigE "
+                 "id), each with its calibration file and the station's rtp://HOST:PORT, codec "
+                 "and rate settings, key file (example: remote/remote-example.yaml); the "
+                 "--to/--bitrate/--key options are then the file's")
+      ->excludes(scene_opt);
   app.add_option("--to", to,
                  "the station's address of camera 0, rtp://HOST:PORT; camera i goes to "
                  "PORT + 2 i (RTCP on the next port)")
@@ -69,6 +78,15 @@ int main(int argc, char** argv) {
                  "cameras see and the station's head follow one scene clock (default: this "
                  "program's start)");
   CLI11_PARSE(app, argc, argv);
+  if (!config_file.empty()) {
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    return hd::remote::run_config(config_file, seconds, g_stop);
+  }
+  if (scene_file.empty()) {
+    std::fprintf(stderr, "hybrid-remote: give --scene FILE or --config FILE (see --help)\n");
+    return 2;
+  }
 
   std::string why;
   const auto address = hd::drivers::parse_rtp_uri(to, why);
@@ -104,6 +122,9 @@ int main(int argc, char** argv) {
   std::vector<std::unique_ptr<hd::remote::RtpSender>> senders;
   std::printf("hybrid-remote: scene %s (%s), %zu cameras\n", scene_file.c_str(),
               sim->scene().name.c_str(), sim->camera_count());
+  // p_c and P_c as the station would use them in scene mode (no distortion unless the scene
+  // renders it): sent with every frame, so the station needs no calibration file.
+  const std::vector<hd::drivers::CalibratedCamera> calibrated = sim->station_cameras();
   for (std::size_t i = 0; i < sim->camera_count(); ++i) {
     const hd::sim::SceneCamera& sc = sim->scene().cameras[i];
     hd::remote::RtpSendConfig c;
@@ -116,9 +137,12 @@ int main(int argc, char** argv) {
     c.key_interval_s = key_interval_s;
     c.camera_index = static_cast<uint8_t>(i);
     c.calibration_revision = 1;  // the scene's calibration is fixed for the run
+    c.p_c = calibrated[i].p_c;
+    c.T_world_cam = calibrated[i].T_world_real;
     c.srtp_key = key;
-    auto s = std::make_unique<hd::remote::RtpSender>(c);
+    std::unique_ptr<hd::remote::RtpSender> s;
     try {
+      s = std::make_unique<hd::remote::RtpSender>(c);
       s->start();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "hybrid-remote: camera %zu: %s\n", i, e.what());
@@ -129,9 +153,11 @@ int main(int argc, char** argv) {
         "zerolatency, ultrafast, no B-frames, key frame every %d frames, VBV %d ms = one frame, "
         "%d kbit/s), rtph264pay, rtpbin; per packet: ntp-64 capture time (CLOCK_REALTIME: the "
         "station maps it exactly on one host, else as well as the hosts' clocks agree) and "
-        "camera-state (index %zu, calibration revision %u)\n",
+        "camera-state (index %zu, calibration revision %u); with every frame: p_c and P_c "
+        "(calibration element, %zu bytes)\n",
         i, sc.name.c_str(), c.width_px, c.height_px, c.rate_hz, c.host.c_str(), c.port, c.port + 1,
-        c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps, i, c.calibration_revision);
+        c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps, i, c.calibration_revision,
+        hd::drivers::calibration_element_size(c.p_c->distortion_count));
     senders.push_back(std::move(s));
   }
   std::printf("  security: %s\n",
@@ -146,7 +172,9 @@ int main(int argc, char** argv) {
   } else {
     std::printf("  scene time: t = 0 when the cameras start (no --scene-epoch)\n");
   }
-  std::printf("  p_c: not sent; give the station the same calibration (issue 12 item 1, open)\n");
+  std::printf(
+      "  calibration: the scene's p_c and P_c in the stream (the station needs no calibration "
+      "file)\n");
   std::fflush(stdout);
 
   std::signal(SIGINT, on_signal);

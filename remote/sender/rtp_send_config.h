@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "core/pinhole.h"
+#include "core/pose.h"
 #include "drivers/rtp/srtp_key.h"
 
 namespace hd::remote {
@@ -17,6 +19,8 @@ struct RtpSendConfig {
   int height_px = 0;
   double rate_hz = 30.0;
   int bitrate_kbps = 4000;
+  /// The H.264 encoder element (remote/sender/h264_encoder.h: choose_h264_encoder() picks it).
+  std::string encoder = "x264enc";
   /// A key frame (IDR, with SPS/PPS) at least this often: a station that joins late, or after
   /// a link cut, decodes within this time even without asking (x264enc key-int-max).
   double key_interval_s = 0.5;
@@ -24,6 +28,12 @@ struct RtpSendConfig {
   int mtu_bytes = 1200;  ///< below any path's MTU, with room for the header extensions
   uint8_t camera_index = 0;
   uint32_t calibration_revision = 0;
+  /// The camera's p_c (core convention, with its distortion) and P_c: with them, the last packet
+  /// of every frame carries the calibration element (id 3, drivers/rtp/rtp_calibration.h) with
+  /// camera_index and calibration_revision, so the station needs no calibration file. Without,
+  /// no element is sent.
+  std::optional<core::Pinhole> p_c;
+  core::Pose T_world_cam;
   /// RTCP sender reports at least this often (rtpsession rtcp-min-interval): each one is a
   /// sample of the station's clock-offset estimate (RFC 3550 allows 360 / kbit/s seconds).
   int rtcp_interval_ms = 1000;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "remote/sender/h264_encoder.h"
+
 namespace hd::remote {
 
 int RtpSendConfig::key_int_frames() const {
@@ -25,12 +27,10 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
        "caps=video/x-raw,format=RGBA,width=" +
        std::to_string(c.width_px) + ",height=" + std::to_string(c.height_px) +
        ",framerate=" + std::to_string(fps_n) + "/1000 ";
-  d += "! videoconvert ! video/x-raw,format=I420 ";
-  d += std::string("! x264enc name=") + kEncoder +
-       " tune=zerolatency speed-preset=ultrafast bframes=0 key-int-max=" +
-       std::to_string(c.key_int_frames()) +
-       " vbv-buf-capacity=" + std::to_string(c.vbv_buffer_ms()) +
-       " bitrate=" + std::to_string(c.bitrate_kbps) + " ";
+  d += "! videoconvert ! video/x-raw,format=" + h264_encoder_input_format(c.encoder) + " ";
+  d += "! " +
+       h264_encoder_description(c.encoder, c.bitrate_kbps, c.key_int_frames(), c.vbv_buffer_ms()) +
+       " ";
   d += std::string("! rtph264pay name=") + kPayloader +
        " config-interval=-1 pt=" + std::to_string(c.payload_type) +
        " mtu=" + std::to_string(c.mtu_bytes) + " ";

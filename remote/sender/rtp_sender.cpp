@@ -37,7 +37,35 @@ uint32_t micros_between(int64_t from_ns, int64_t to_ns) {
 
 }  // namespace
 
-RtpSender::RtpSender(RtpSendConfig config) : config_(std::move(config)) {}
+RtpSender::RtpSender(RtpSendConfig config)
+    : config_(std::move(config)), revision_(config_.calibration_revision) {
+  if (config_.p_c && !set_calibration(*config_.p_c, config_.T_world_cam, false))
+    throw std::invalid_argument(
+        "stream to " + config_.host + ":" + std::to_string(config_.port) +
+        ": the calibration cannot be sent (not a valid pinhole and rotation, or a distortion "
+        "count other than 0, 4, 5 or 8)");
+}
+
+bool RtpSender::set_calibration(const core::Pinhole& p_c, const core::Pose& T_world_cam) {
+  return set_calibration(p_c, T_world_cam, true);
+}
+
+bool RtpSender::set_calibration(const core::Pinhole& p_c, const core::Pose& T_world_cam,
+                                bool next_revision) {
+  drivers::StreamCalibration c;
+  c.camera_index = config_.camera_index;
+  c.revision = revision_.load() + (next_revision ? 1u : 0u);
+  c.p_c = p_c;
+  c.T_world_cam = T_world_cam;
+  std::array<uint8_t, drivers::kCalibrationMaxSize> bytes{};
+  const std::size_t n = drivers::write_calibration(c, bytes);
+  if (n == 0) return false;
+  std::lock_guard lock(calibration_mutex_);
+  calibration_element_ = bytes;
+  calibration_size_ = n;
+  revision_.store(c.revision, std::memory_order_release);
+  return true;
+}
 
 RtpSender::~RtpSender() {
   stop();
@@ -221,7 +249,8 @@ bool RtpSender::stamp_packet(GstBuffer* buffer) {
   GstRTPBuffer rtp = GST_RTP_BUFFER_INIT;
   if (!gst_rtp_buffer_map(buffer, GST_MAP_READWRITE, &rtp)) return false;
   uint8_t data[drivers::kCameraStateSize];
-  drivers::write_camera_state({config_.camera_index, config_.calibration_revision},
+  std::lock_guard lock(calibration_mutex_);  // the revision and its element go together
+  drivers::write_camera_state({config_.camera_index, revision_.load(std::memory_order_relaxed)},
                               std::span<uint8_t, drivers::kCameraStateSize>(data));
   bool ok = gst_rtp_buffer_add_extension_onebyte_header(&rtp, drivers::kCameraStateExtensionId,
                                                         data, sizeof data);
@@ -245,9 +274,36 @@ bool RtpSender::stamp_packet(GstBuffer* buffer) {
                                                      stages, sizeof stages) &&
          ok;
   }
-  gst_rtp_buffer_unmap(&rtp);
   if (ok) packets_stamped_.fetch_add(1, std::memory_order_relaxed);
+  // Last: the calibration turns the packet's elements into the two-byte form.
+  if (ok && calibration_size_ > 0 && gst_rtp_buffer_get_marker(&rtp)) {
+    ok = add_calibration(rtp);
+    if (ok) packets_calibrated_.fetch_add(1, std::memory_order_relaxed);
+  }
+  gst_rtp_buffer_unmap(&rtp);
   return ok;
+}
+
+// The depayloaders of GStreamer 1.22 read the last packet of a frame, and the station reads every
+// packet: the calibration (140..204 bytes, over the one-byte form's 16) goes on the marker packet
+// only, in the two-byte form, with the packet's one-byte elements rewritten in that form.
+bool RtpSender::add_calibration(GstRTPBuffer& rtp) {
+  guint16 bits = 0;
+  gpointer data = nullptr;
+  guint words = 0;
+  if (!gst_rtp_buffer_get_extension_data(&rtp, &bits, &data, &words) || bits != 0xBEDE)
+    return false;
+  std::array<uint8_t, 1024> block{};
+  const std::size_t n = drivers::to_two_byte_block(
+      std::span<const uint8_t>(static_cast<const uint8_t*>(data), std::size_t(words) * 4),
+      drivers::kCalibrationExtensionId,
+      std::span<const uint8_t>(calibration_element_.data(), calibration_size_), block);
+  if (n == 0 || !gst_rtp_buffer_set_extension_data(&rtp, 0x1000, static_cast<guint16>(n / 4)))
+    return false;
+  if (!gst_rtp_buffer_get_extension_data(&rtp, &bits, &data, &words) || words * 4 != n)
+    return false;
+  std::memcpy(data, block.data(), n);
+  return true;
 }
 
 GstPadProbeReturn RtpSender::on_packets(GstPadProbeInfo* info) {
@@ -336,6 +392,7 @@ RtpSenderStats RtpSender::stats() const {
   s.sender_reports = sender_reports_.load();
   s.round_trips = round_trips_.load();
   s.round_trip_ns = round_trip_ns_.load();
+  s.packets_with_calibration = packets_calibrated_.load();
   return s;
 }
 

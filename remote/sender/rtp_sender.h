@@ -2,12 +2,16 @@
 // One camera's outgoing RTP H.264 stream at the remote site: frames in, stamped packets out.
 
 #include <gst/gst.h>
+#include <gst/rtp/rtp.h>
 
+#include <array>
 #include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
 
 #include "drivers/frame.h"
+#include "drivers/rtp/rtp_calibration.h"
 #include "remote/sender/rtp_send_config.h"
 
 namespace hd::remote {
@@ -20,16 +24,20 @@ struct RtpSenderStats {
   uint64_t sender_reports = 0;   ///< RTCP sender reports sent
   uint64_t round_trips = 0;      ///< round trips measured from the station's receiver reports
   int64_t round_trip_ns = -1;    ///< the newest (-1 none yet)
+  uint64_t packets_with_calibration = 0;  ///< last packets of frames that got the calibration
 };
 
 /// Builds send_pipeline_description(), adds GStreamer's rtphdrextntp64 (id 1, every packet) to
 /// the payloader and the camera-state element (id 2, drivers/rtp/rtp_frame_stamp.h) to every
-/// packet, then takes RGBA frames with push(). Each frame's capture time (its host_timestamp_ns,
-/// CLOCK_MONOTONIC) is sent as CLOCK_REALTIME in NTP format (RFC 6051 ntp-64), the clock of its
-/// RTCP sender reports, from which the station measures the offset between the two; the frame's
-/// PTS on the pipeline (also CLOCK_MONOTONIC) is its capture time, so the encoder sees the real
-/// frame spacing. Every packet also carries the sender-stages element (id 4): encode and send
-/// times after capture, and the newest round trip measured from the station's receiver reports.
+/// packet, and, when the config has p_c, the calibration element (id 3,
+/// drivers/rtp/rtp_calibration.h) to the last packet of every frame (the marker packet, which
+/// then uses RFC 8285's two-byte form for all its elements), then takes RGBA frames with push().
+/// Each frame's capture time (its host_timestamp_ns, CLOCK_MONOTONIC) is sent as CLOCK_REALTIME in
+/// NTP format (RFC 6051 ntp-64), the clock of its RTCP sender reports, from which the station
+/// measures the offset between the two; the frame's PTS on the pipeline (also CLOCK_MONOTONIC) is
+/// its capture time, so the encoder sees the real frame spacing. Every packet also carries the
+/// sender-stages element (id 4): encode and send times after capture, and the newest round trip
+/// measured from the station's receiver reports.
 class RtpSender {
  public:
   explicit RtpSender(RtpSendConfig config);
@@ -43,6 +51,12 @@ class RtpSender {
   /// blocks (a full queue drops its oldest frame). False when refused.
   bool push(const drivers::Frame& f);
 
+  /// A new p_c / P_c (a recalibration, or a camera that moved): the revision goes up by one and
+  /// the next frames carry it. Any thread. False when it cannot be sent (not a valid pinhole or
+  /// pose, a distortion count other than 0/4/5/8).
+  bool set_calibration(const core::Pinhole& p_c, const core::Pose& T_world_cam);
+  uint32_t calibration_revision() const { return revision_.load(std::memory_order_acquire); }
+
   RtpSenderStats stats() const;
   const RtpSendConfig& config() const { return config_; }
   std::string description() const;
@@ -51,6 +65,8 @@ class RtpSender {
   GstPadProbeReturn on_encoded(GstPadProbeInfo* info);
   GstPadProbeReturn on_packets(GstPadProbeInfo* info);
   bool stamp_packet(GstBuffer* buffer);
+  bool add_calibration(GstRTPBuffer& rtp);
+  bool set_calibration(const core::Pinhole& p_c, const core::Pose& T_world_cam, bool next_revision);
   GstPadProbeReturn on_rtcp_out(GstPadProbeInfo* info);
   GstPadProbeReturn on_rtcp_in(GstBuffer* buffer);
   int64_t sender_realtime_ns() const;  // the host's CLOCK_REALTIME + test_clock_shift_ns
@@ -60,13 +76,19 @@ class RtpSender {
   GstElement* appsrc_ = nullptr;
   GstClockTime base_time_ = 0;
   bool playing_ = false;
-  std::atomic<uint64_t> pushed_{0}, refused_{0}, packets_stamped_{0}, frames_stamped_{0};
+  std::atomic<uint64_t> pushed_{0}, refused_{0}, packets_stamped_{0}, frames_stamped_{0},
+      packets_calibrated_{0};
   std::atomic<uint64_t> sender_reports_{0}, round_trips_{0};
   std::atomic<int64_t> round_trip_ns_{-1};
   // Streaming thread of the payloader: when the frame now being packetised reached it.
   GstClockTime encoded_pts_ = GST_CLOCK_TIME_NONE;
   int64_t encoded_mono_ns_ = 0;
   int64_t encoded_capture_ns_ = 0;  // its capture time (CLOCK_MONOTONIC), 0 unknown
+  std::atomic<uint32_t> revision_{0};
+  // The encoded calibration element (set_calibration's thread -> the streaming thread).
+  std::mutex calibration_mutex_;
+  std::array<uint8_t, drivers::kCalibrationMaxSize> calibration_element_{};
+  std::size_t calibration_size_ = 0;
 };
 
 }  // namespace hd::remote

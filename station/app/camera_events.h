@@ -8,13 +8,14 @@
 #include <vector>
 
 #include "drivers/camera_source.h"
+#include "station/video/camera_pipeline.h"
 
 namespace hd::station {
 
 /// One FormatEvent of one camera, in the run's words.
 struct CameraEventRecord {
   std::string camera;    ///< the camera's name in the station file
-  std::string kind;      ///< "format_lost" or "format_restored"
+  std::string kind;      ///< "format_lost", "format_restored" or "calibration_from_stream"
   std::string cause;     ///< "frame", "source change", "reconnect"
   int64_t time_ns = 0;   ///< CLOCK_MONOTONIC, the driver's time of the event
   double t_s = 0.0;      ///< seconds since the loop started (negative: during start-up)
@@ -31,6 +32,15 @@ class CameraEventLog {
   void poll(const std::vector<drivers::CameraSource*>& cameras,
             const std::vector<std::string>& names);
 
+  /// Takes every calibration the pipelines took from their streams and prints it (the first,
+  /// and each with new intrinsics or more than 0.5 px from the file; a moving camera's new
+  /// poses are only counted); `files[i]` is camera i's calibration file ("" none).
+  void poll_calibrations(const std::vector<CameraPipeline*>& pipelines,
+                         const std::vector<std::string>& names,
+                         const std::vector<std::string>& files);
+  /// Stream calibrations taken but not printed (new poses of a moving camera).
+  uint64_t pose_revisions() const { return pose_revisions_; }
+
   const std::vector<CameraEventRecord>& events() const { return events_; }
 
   /// "event   +6.234 s camera front: format lost (reconnect): delivers 512x512 Mono8, not the
@@ -41,6 +51,14 @@ class CameraEventLog {
   std::FILE* out_;
   int64_t start_ns_;
   std::vector<CameraEventRecord> events_;
+  uint64_t pose_revisions_ = 0;
 };
+
+/// A streamed calibration in a line: "640x480, fx 500.00 fy 500.00 cx 319.50 cy 239.50
+/// (OpenCV's convention, as in a calibration file), 5 distortion coefficients, centre (x, y, z) m".
+std::string calibration_text(const core::Pinhole& p_c, const core::Pose& T_world_cam);
+
+/// A streamed calibration is used instead of the file's; beyond this it is a warning.
+inline constexpr double kCalibrationWarnPx = 0.5;
 
 }  // namespace hd::station

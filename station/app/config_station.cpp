@@ -133,7 +133,10 @@ void add_cameras(StationParts& p, const StationConfig& config) {
       continue;
     }
     station::CameraPipelineConfig pc;
-    pc.p_c = cc.p_c;
+    pc.p_c = cc.p_c;  // not valid without a file: the stream's, once it arrives
+    pc.T_world_cam = cc.T_world_cam;
+    pc.compare_depth_m = cc.d_m;
+    pc.calibration_from_stream = cc.calibration_file.empty();
     pc.model_period_s = config.model.refresh_period_s;
     // With stereo pairs every camera hands every frame to the model (docs/reconstruction.md).
     if (!config.model.stereo.empty()) pc.model_period_s = 0.0;
@@ -154,23 +157,37 @@ void add_cameras(StationParts& p, const StationConfig& config) {
       continue;
     }
     const Eigen::Vector3d& c = cc.T_world_cam.t;
+    const bool from_stream = cc.calibration_file.empty();
     const std::string delivered =
         got.delivered.known() ? drivers::format_text(got.delivered)
+        : from_stream         ? "size unknown until the first frame (its calibration's)"
                               : "size unknown until the first frame (" +
-                                    drivers::size_text(cc.p_c.width, cc.p_c.height) + " expected)";
+                            drivers::size_text(cc.p_c.width, cc.p_c.height) + " expected)";
+    std::string calibration;
+    if (from_stream)
+      calibration =
+          ", calibration: from the stream (none yet: not shown until its sender's arrives)";
+    else
+      calibration = ", calibration: from file " + cc.calibration_file +
+                    (calib::camera_kind(cc.id) == calib::CameraKind::kRtp
+                         ? " (a calibration in the stream replaces it, with a warning when they "
+                           "differ by more than 0.5 px)"
+                         : "") +
+                    fmt(", centre (%.2f, %.2f, %.2f) m", c.x(), c.y(), c.z());
     const double max_age_s = cc.max_video_age_ms > 0.0
                                  ? 1e-3 * cc.max_video_age_ms
                                  : core::default_max_video_age_s(got.delivered.frame_rate_hz);
     p.report.opened("camera", label,
-                    delivered + (got.detail.empty() ? "" : " (" + got.detail + ")") +
-                        ", calibration " + cc.calibration_file +
-                        fmt(", centre (%.2f, %.2f, %.2f) m", c.x(), c.y(), c.z()) +
+                    delivered + (got.detail.empty() ? "" : " (" + got.detail + ")") + calibration +
                         fmt(", d = %g m", cc.d_m) +
-                        (pipe->undistorting() ? ", undistorted" : ", no distortion") +
+                        (from_stream            ? ""
+                         : pipe->undistorting() ? ", undistorted"
+                                                : ", no distortion") +
                         fmt(", live while under %.0f ms old", 1e3 * max_age_s) +
                         (cc.max_video_age_ms > 0.0 ? "" : " (3 frame periods, >= 100 ms)"));
     p.cameras.push_back({pipe.get(), cc.p_c, cc.T_world_cam, cc.d_m, max_age_s});
     p.camera_names.push_back(cc.name);
+    p.camera_calibration_files.push_back(cc.calibration_file);
     p.devices.push_back(std::move(device));
     p.pipelines.push_back(std::move(pipe));
   }

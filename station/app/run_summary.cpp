@@ -63,6 +63,12 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  n.camera.c_str(), n.clock_mapping.c_str(), double(n.clock_offset_ns) * 1e-6,
                  double(n.clock_uncertainty_ns) * 1e-6, double(n.clock_round_trip_ns) * 1e-6,
                  n.clock_samples, n.sender_reports, n.capture_after_arrival);
+  for (const RunSummary::NetworkCamera& n : s.network_cameras)
+    std::fprintf(out,
+                 "  network camera %-12s calibration: %s; %" PRIu64
+                 " calibration elements refused, %" PRIu64 " frames not shown for want of one\n",
+                 n.camera.c_str(), n.calibration.c_str(), n.calibration_errors,
+                 n.frames_uncalibrated);
   for (std::size_t i = 0; i < s.camera_unusable.size() && i < s.camera_names.size(); ++i) {
     double total_s = 0.0;
     for (const UnusableInterval& u : s.camera_unusable[i])
@@ -75,7 +81,8 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                "  frames with a camera's video withheld as too old or not streaming: %" PRIu64 "\n",
                s.frames_stale_blocked);
   if (!s.camera_events.empty())
-    std::fprintf(out, "  camera format events: %zu\n", s.camera_events.size());
+    std::fprintf(out, "  camera events (format, calibration from the stream): %zu\n",
+                 s.camera_events.size());
   for (const CameraEventRecord& e : s.camera_events)
     std::fprintf(out, "  %s\n", CameraEventLog::line(e).c_str() + 2);
   std::fprintf(out,
@@ -177,6 +184,9 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                            {"samples", n.clock_samples},
                            {"sender_reports", n.sender_reports},
                            {"capture_after_arrival", n.capture_after_arrival}};
+    network[i]["calibration"] = n.calibration;
+    network[i]["calibration_errors"] = n.calibration_errors;
+    network[i]["frames_uncalibrated"] = n.frames_uncalibrated;
   }
   j["network_cameras"] = network;
   j["head"] = {{"accepted", s.pose_accepted},

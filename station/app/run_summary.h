@@ -36,6 +36,10 @@ struct RunSummary {
     uint64_t packets = 0, bytes = 0, malformed = 0, srtp_rejected = 0, frames_stamped = 0,
              frames_unstamped = 0, not_newer = 0, bus_errors = 0, pli_sent = 0, nack_sent = 0;
     std::string last_error;
+    /// Where its p_c / P_c came from at the end: "stream (revision N)", "file F", or "none
+    /// (no calibration arrived)"; calibration elements refused; frames not shown for want of one.
+    std::string calibration;
+    uint64_t calibration_errors = 0, frames_uncalibrated = 0;
     /// The sender-clock mapping at the end (drivers/rtp/clock_offset_estimator.h):
     /// capture_mono = sender_unix + clock_offset_ns, within ±clock_uncertainty_ns (-1 unknown).
     std::string clock_mapping;

@@ -85,6 +85,9 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
     const sim::SceneCamera& sc = sim.scene().cameras[i];
     station::CameraPipelineConfig pc;
     pc.p_c = sim_cams[i].p_c;
+    // What a network camera's streamed calibration is compared with (the same scene's: 0 px).
+    pc.T_world_cam = sim_cams[i].T_world_real;
+    pc.compare_depth_m = sim_cams[i].d_m;
     pc.model_period_s = staleness ? staleness->period_s : 1.0;
     // With stereo pairs every camera hands every frame to the model: the updater then finds a
     // pair's two frames of one exposure, and every camera's newest frame within a frame time of
@@ -101,6 +104,13 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
       drivers::RtpReceiveConfig rc;
       rc.listen = *net;
       rc.listen.port = static_cast<uint16_t>(net->port + 2 * i);
+      if (p->scene_epoch_ns != 0) {
+        // A shared --scene-epoch already takes the two sites' CLOCK_REALTIME to agree (one host
+        // in the demo): capture times are mapped through it too, so a frame's time is its
+        // exposure's scene time exactly, not within an RTCP estimate's error.
+        rc.clock = drivers::RtpReceiveConfig::Clock::kSynchronized;
+        rc.clock_error_ns = 0;
+      }
       // What the link adds to a frame's age at most in the normal case: the jitter buffer and
       // one frame time each for encoding and decoding.
       link_delay_s = 1e-3 * rc.jitter_buffer_latency_ms + 2.0 / sc.rate_hz;
@@ -141,6 +151,7 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
     cam.max_video_age_s = max_age_s;
     p->cameras.push_back(cam);
     p->camera_names.push_back(id);
+    p->camera_calibration_files.push_back(sc.calibration_file);
     opened_names.push_back(sc.name);
     p->pipelines.push_back(std::move(pipe));
     if (device) {

@@ -33,17 +33,21 @@ CameraConfig read_camera(const sim::YamlFields& f, std::size_t index) {
   c.id = f.required_string("id");
   if (c.id.empty())
     f.fail("id", "empty; expected /dev/videoN, a GigE id, rtp://HOST:PORT or mock[:WxH]");
-  c.calibration_file = f.required_path("calibration");
+  const bool network = c.id.rfind("rtp://", 0) == 0;
+  // A network camera whose sender streams its calibration needs no file (docs/network.md).
+  if (network) {
+    if (auto p = f.optional_path("calibration")) c.calibration_file = *p;
+  } else {
+    c.calibration_file = f.required_path("calibration");
+  }
   c.d_m = f.required_double("d_m", Range::positive());
   c.max_video_age_ms =
       f.optional_double("max_video_age_ms", 0.0, Range{0.0, 60'000.0, true, false});
   c.optional = f.optional_bool("optional", false);
   if (auto k = f.optional_path("key_file")) {
-    if (c.id.rfind("rtp://", 0) != 0)
-      f.fail("key_file", "only a network camera (id rtp://HOST:PORT) takes a key file");
+    if (!network) f.fail("key_file", "only a network camera (id rtp://HOST:PORT) takes a key file");
     c.key_file = *k;
   }
-  const bool network = c.id.rfind("rtp://", 0) == 0;
   const std::string clock = f.optional_string("clock", "measured");
   if (clock != "measured" && clock != "synchronized")
     f.fail("clock", "'" + clock + "'; expected measured or synchronized");
@@ -54,6 +58,14 @@ CameraConfig read_camera(const sim::YamlFields& f, std::size_t index) {
   std::optional<core::Pose> pose_override;
   if (auto p = f.optional_map("pose")) pose_override = read_pose(*p);
   f.finish();
+  if (c.calibration_file.empty()) {
+    if (pose_override)
+      f.fail("pose", "needs a calibration: file (a streamed calibration carries its own P_c)");
+    c.p_c = core::Pinhole{};  // not valid: from the stream, once it arrives
+    c.p_c.width = c.p_c.height = 0;
+    c.T_world_cam.R.setZero();  // no pose until then
+    return c;
+  }
 
   calib::CalibrationFile cal;
   try {
@@ -202,8 +214,16 @@ StationConfig read_station(const sim::YamlFields& root) {
         m->optional_double("refresh_period_s", s.model.refresh_period_s, Range::positive());
     std::vector<std::string> names;
     for (const CameraConfig& c : s.cameras) names.push_back(c.name);
-    for (const sim::YamlFields& sp : m->optional_list("stereo"))
+    for (const sim::YamlFields& sp : m->optional_list("stereo")) {
       s.model.stereo.push_back(sim::read_stereo_pair(sp, names));
+      // A pair's rig is fixed at start, from files.
+      for (const std::string& n : {s.model.stereo.back().left, s.model.stereo.back().right})
+        for (const CameraConfig& c : s.cameras)
+          if (c.name == n && c.calibration_file.empty())
+            sp.fail("left", "camera '" + n +
+                                "' has no calibration: file; a stereo pair needs both cameras' "
+                                "files");
+    }
     m->finish();
   }
   static const std::vector<std::string> predictors{"none", "cv", "kalman"};

@@ -20,11 +20,13 @@ namespace hd::station {
 /// mock[:WxH]), its calibration from hybrid-calib (p_c with distortion, and P_c unless `pose`
 /// overrides it) and the plane distance d.
 struct CameraConfig {
-  std::string name;              ///< for reports ("camera0" when not given)
-  std::string id;                ///< driver id
-  std::string calibration_file;  ///< resolved against the config file's directory
-  core::Pinhole p_c;             ///< read from the calibration file
-  core::Pose T_world_cam;        ///< from the calibration file, or `pose:` in station.yaml
+  std::string name;  ///< for reports ("camera0" when not given)
+  std::string id;    ///< driver id
+  /// Resolved against the config file's directory. "" only for an rtp:// camera: p_c and P_c
+  /// then come from the stream (p_c not valid, R zero, until the first calibration arrives).
+  std::string calibration_file;
+  core::Pinhole p_c;       ///< read from the calibration file
+  core::Pose T_world_cam;  ///< from the calibration file, or `pose:` in station.yaml
   double d_m = 1.0;
   /// Video older than this at the display time is not shown as live (core/video_age.h);
   /// 0: the default, core::default_max_video_age_s of the rate the camera delivers.

@@ -38,6 +38,9 @@ struct StationParts {
   std::unique_ptr<station::AlignedPoseSource> head;
   std::vector<drivers::CalibratedCamera> cameras;  ///< sources = pipelines
   std::vector<std::string> camera_names;
+  /// Per camera: its calibration file ("" none: a scene's inline one, or a network camera's
+  /// from the stream).
+  std::vector<std::string> camera_calibration_files;
   render::SyntheticScene model;  ///< the a-priori model (drawn as is without an updater)
   std::unique_ptr<render::LoopClock> updater_clock;
   std::unique_ptr<station::ModelUpdater> updater;

@@ -262,7 +262,11 @@ int run(const RunOptions& o) {
   // So is every camera becoming unusable (too old, not streaming) and usable again.
   UsabilityLog usability(stdout, start_ns, p.cameras.size());
   std::vector<drivers::CameraSource*> event_sources;
-  for (const auto& pipe : p.pipelines) event_sources.push_back(pipe.get());
+  std::vector<station::CameraPipeline*> pipelines;
+  for (const auto& pipe : p.pipelines) {
+    event_sources.push_back(pipe.get());
+    pipelines.push_back(pipe.get());
+  }
   for (;;) {
     if (o.frames && loop.frames() >= o.frames) break;
     if (!o.frames && seconds > 0.0 && clock.now_ns() >= end_ns) break;
@@ -271,8 +275,13 @@ int run(const RunOptions& o) {
     // Between frames, outside the counted tick: progress, the HUD text (OpenCV may allocate), the
     // keys.
     const int64_t now = clock.now_ns();
+    if (p.updater) {
+      const station::ModelUpdaterStats ms = p.updater->stats();
+      progress.model_done(ms.updates, ms.reconstructions);
+    }
     progress.frame_done(frame.last_row().variant, loop.frames(), loop.missed_deadlines(), now);
     camera_events.poll(event_sources, p.camera_names);
+    camera_events.poll_calibrations(pipelines, p.camera_names, p.camera_calibration_files);
     usability.poll(frame, p.camera_names);
     if (now >= next_hud_ns) {
       next_hud_ns = now + 500'000'000;
@@ -294,6 +303,7 @@ int run(const RunOptions& o) {
   const uint64_t allocations = core::counted_allocations();
   p.stop();
   camera_events.poll(event_sources, p.camera_names);
+  camera_events.poll_calibrations(pipelines, p.camera_names, p.camera_calibration_files);
   usability.poll(frame, p.camera_names);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
@@ -344,6 +354,14 @@ int run(const RunOptions& o) {
     n.pli_sent = fb.pli_sent;
     n.nack_sent = fb.nack_sent;
     n.last_error = st.last_error;
+    const int64_t revision = i < p.pipelines.size() ? p.pipelines[i]->stream_revision() : -1;
+    const std::string file =
+        i < p.camera_calibration_files.size() ? p.camera_calibration_files[i] : "";
+    n.calibration = revision >= 0  ? "stream (revision " + std::to_string(revision) + ")"
+                    : file.empty() ? "none (no calibration arrived: never shown)"
+                                   : "file " + file;
+    n.calibration_errors = st.calibration_errors_total;
+    n.frames_uncalibrated = i < p.pipelines.size() ? p.pipelines[i]->uncalibrated() : 0;
     n.clock_mapping = drivers::to_string(st.clock.kind);
     n.clock_offset_ns = st.clock.offset_ns;
     n.clock_uncertainty_ns = st.clock.uncertainty_ns;
@@ -396,7 +414,9 @@ int run(const RunOptions& o) {
       if ((p.cameras[i].T_world_real.t - p.cameras[0].T_world_real.t).norm() >
           (p.cameras[view].T_world_real.t - p.cameras[0].T_world_real.t).norm())
         view = i;
-    if (snap.scene.meshes.size() > snap.prior_meshes)
+    // (Cameras calibrated from a stream have no fixed p_c here; the pairs that reconstruct
+    // need files, so the tile's camera has one whenever there is a reconstruction.)
+    if (snap.scene.meshes.size() > snap.prior_meshes && p.cameras[view].p_c.valid())
       thumbs.set_extra_tile(
           station::render_model_tile(snap, p.cameras[view].p_c, p.cameras[view].T_world_real),
           station::model_tile_label(snap));

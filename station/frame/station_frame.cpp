@@ -32,6 +32,7 @@ StationFrame::StationFrame(StationFrameConfig config,
       max_age_s_(cameras.size(), 0.0),
       fade_s_(cameras.size(), 0.0),
       first_new_ns_(cameras.size(), 0),
+      stream_revision_(cameras.size(), 0),
       fetched_(cameras.size(), 0) {
   for (std::size_t i = 0; i < cameras_.size(); ++i) {
     const double max_age = cameras_[i].max_video_age_s > 0.0 ? cameras_[i].max_video_age_s
@@ -50,8 +51,11 @@ StationFrame::StationFrame(StationFrameConfig config,
     hud_ =
         render::HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24), 3);
   }
-  for (const drivers::CalibratedCamera& c : cameras_)
+  for (const drivers::CalibratedCamera& c : cameras_) {
     guidance_cameras_.push_back({c.p_c, c.T_world_real, c.d_m});
+    // Not calibrated yet: no pose to guide the operator to (an invalid pose is skipped).
+    if (!c.p_c.valid()) guidance_cameras_.back().T_world_real.R.setZero();
+  }
   rows_.reserve(config_.max_rows);
 }
 
@@ -67,6 +71,14 @@ void StationFrame::tick(const render::FrameTiming& timing) {
         first_new_ns_[i] = cameras_[i].source->frames().latest().host_timestamp_ns;
       has_frame_[i] = 1;
       ++fetched_[i];
+      const drivers::FrameCalibration& cal = cameras_[i].source->frames().latest().calibration;
+      if (cal.present && int64_t(cal.revision) + 1 != stream_revision_[i]) {
+        stream_revision_[i] = int64_t(cal.revision) + 1;
+        cameras_[i].p_c = cal.p_c;
+        cameras_[i].T_world_real = cal.T_world_cam;
+        guidance_cameras_[i].p_c = cal.p_c;
+        guidance_cameras_[i].T_world_real = cal.T_world_cam;
+      }
     }
   }
   // Newest model: before its first update the mailbox shows the a-priori model (capture 0).
@@ -94,8 +106,9 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     age_s_[c] = has_frame_[c] ? core::age_s(cameras_[c].source->frames().latest().host_timestamp_ns,
                                             timing.display_ns)
                               : NAN;
-    const bool usable = has_frame_[c] && std::isfinite(core::time_extended_m(
-                                             0.0, streaming, age_s_[c], max_age_s_[c]));
+    const bool usable =
+        has_frame_[c] && cameras_[c].p_c.valid() &&
+        std::isfinite(core::time_extended_m(0.0, streaming, age_s_[c], max_age_s_[c]));
     any_blocked = any_blocked || (has_frame_[c] && !usable);
     if (usable != (usable_[c] != 0)) {
       usable_[c] = usable;
@@ -111,6 +124,10 @@ void StationFrame::tick(const render::FrameTiming& timing) {
   const int eyes = rig.eye_count();
   for (std::size_t c = 0; c < cameras_.size(); ++c) {
     double worse = 0.0;
+    if (!cameras_[c].p_c.valid()) {  // no calibration yet: nothing to measure
+      m_camera_[c] = INFINITY;
+      continue;
+    }
     for (int e = 0; e < eyes; ++e) {
       core::ViewSetup s;
       s.real = cameras_[c].p_c;

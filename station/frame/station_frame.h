@@ -81,6 +81,12 @@ struct CameraUsabilityEvent {
   drivers::SourceState state = drivers::SourceState::kClosed;
 };
 
+/// Calibration: a camera's p_c / P_c are its CalibratedCamera's until a frame brings its own
+/// (Frame::calibration: a network camera whose sender streams them), from then on the newest
+/// frame's, taken when its revision changes (a fixed-size copy: no allocation, no lock). A camera
+/// whose p_c is not valid (an rtp:// camera without a calibration file, before its first
+/// calibration arrived) is never usable and never a guidance target.
+///
 /// Per-frame work. Everything is sized in the constructor; tick() does not allocate (shown by
 /// loop_no_allocation_test), lock or throw, and calls nothing of a camera but frames() (a
 /// lock-free mailbox) and state() (an atomic), so a device that hangs cannot hold a frame up.
@@ -131,6 +137,9 @@ class StationFrame final : public render::FrameWork {
   uint64_t frames_stale_blocked() const { return frames_stale_blocked_; }
   /// Whether camera i was usable in the newest frame.
   bool usable(std::size_t i) const { return usable_[i] != 0; }
+  /// The p_c / P_c camera i is measured and drawn with now: its CalibratedCamera's, or the
+  /// calibration its newest frame brought (a network camera whose sender streams it).
+  const drivers::CalibratedCamera& camera(std::size_t i) const { return cameras_[i]; }
 
  private:
   StationFrameConfig config_;
@@ -158,7 +167,9 @@ class StationFrame final : public render::FrameWork {
   std::vector<double> max_age_s_;      ///< per camera
   std::vector<double> fade_s_;         ///< per camera (core::video_age_fade_s)
   std::vector<int64_t> first_new_ns_;  ///< first frame fetched while unusable, per camera
-  int shown_ = -1;                     ///< the camera whose video is drawn (chosen, or fading out)
+  /// The stream calibration in use per camera (revision + 1; 0: the CalibratedCamera's own).
+  std::vector<int64_t> stream_revision_;
+  int shown_ = -1;  ///< the camera whose video is drawn (chosen, or fading out)
   drivers::SpscRing<CameraUsabilityEvent, 256> usability_events_;
   uint64_t usability_events_lost_ = 0;
   uint64_t frames_stale_blocked_ = 0;

@@ -182,7 +182,13 @@ bool ModelUpdater::take_frames(const std::atomic<bool>* running) {
     if (cam.frames == nullptr) continue;
     const drivers::Frame& f = cam.frames->latest();
     if (f.host_timestamp_ns == 0 || f.data.empty()) continue;  // never published
-    views_.push_back({&f, cam.p_c, cam.T_world_cam});
+    // A frame that brought its calibration (a network camera's stream) is textured with it.
+    if (f.calibration.present)
+      views_.push_back({&f, f.calibration.p_c, f.calibration.T_world_cam});
+    else if (cam.p_c.valid())
+      views_.push_back({&f, cam.p_c, cam.T_world_cam});
+    else
+      continue;
     capture_oldest_ns_ = std::min(capture_oldest_ns_, f.host_timestamp_ns);
     capture_newest_ns_ = std::max(capture_newest_ns_, f.host_timestamp_ns);
   }

@@ -178,6 +178,57 @@ TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
   if (!::testing::Test::HasFailure()) fs::remove_all(dir);
 }
 
+// Issue 12 item 1: a network camera without a calibration file, fed by hybrid-remote --config (a
+// mock camera with its calibration file): not usable until the stream's calibration arrives, then
+// shown with it, and the start report, the event line and the summary say where it came from.
+TEST(StationRtpCamera, WithoutACalibrationFileTheCameraWaitsForTheStreamsCalibration) {
+  const fs::path dir = test_dir("stream_calibration");
+  const uint16_t port = hd::drivers::testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  const std::string id = "rtp://127.0.0.1:" + std::to_string(port);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "station.yaml")
+      << "cameras:\n  - name: net\n    id: " << id << "\n    d_m: 1.5\n"
+      << "tracker: {id: mock}\n"
+         "display: {stereo: false, eye: {width: 160, height: 120, fx: 130}}\n"
+         "workspace: {min_m: [-1, -1, 0.5], max_m: [1, 1, 2]}\n";
+  const std::string cal = (fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam1.yaml").string();
+  std::ofstream(dir / "remote.yaml") << "encoder: x264enc\ncameras:\n  - id: mock:320x240\n"
+                                     << "    calibration: " << cal << "\n    to: " << id << "\n";
+  const fs::path out = dir / "out";
+  StationProcess station({"run", "--config", (dir / "station.yaml").string(), "--headless",
+                          "--seconds", "600", "--progress", "1", "--out", out.string()},
+                         dir / "stderr.txt");
+  ASSERT_TRUE(station.read_until("net (" + id + ")")) << station.out() << slurp(dir / "stderr.txt");
+  EXPECT_NE(station.out().find("calibration: from the stream (none yet: not shown until"),
+            std::string::npos)
+      << station.out();
+  hd::drivers::testing::ChildProcess remote(
+      {HD_REMOTE_BIN, "--config", (dir / "remote.yaml").string()});
+  ASSERT_TRUE(station.read_until("camera net: calibration: from the stream (revision 1)"))
+      << station.out() << slurp(dir / "stderr.txt");
+  ASSERT_TRUE(station.read_until("camera net: usable from frame"))
+      << station.out() << slurp(dir / "stderr.txt");
+  station.interrupt();
+  ASSERT_EQ(station.wait(), 0) << station.out() << slurp(dir / "stderr.txt");
+  const std::string& report = station.out();
+  // The file's values, from the stream (cam1.yaml: fx 250, centre 0.6 m along x).
+  const std::size_t cal_at = report.find("calibration: from the stream (revision 1): 320x240");
+  ASSERT_NE(cal_at, std::string::npos) << report;
+  EXPECT_NE(report.find("centre (0.600, 0.000, 0.000) m", cal_at), std::string::npos) << report;
+  // Usable only after the calibration arrived.
+  EXPECT_LT(cal_at, report.find("camera net: usable from frame")) << report;
+  const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_GT(s["cameras"][0]["frames_shown"].get<uint64_t>(), 0u) << s.dump(1);
+  ASSERT_EQ(s["network_cameras"].size(), 1u) << s.dump(1);
+  const nlohmann::json& n = s["network_cameras"][0];
+  EXPECT_EQ(n["calibration"], "stream (revision 1)") << n.dump();
+  EXPECT_EQ(n["calibration_errors"].get<uint64_t>(), 0u);
+  EXPECT_GT(n["frames_with_capture_time"].get<uint64_t>(), 0u);
+  if (!::testing::Test::HasFailure()) fs::remove_all(dir);
+}
+
 TEST(StationRtpCamera, WithAKeyTheUnencryptedSenderIsNeverShownAndTheReportNamesTheKeyFile) {
   const fs::path dir = test_dir("keyed");
   const uint16_t port = hd::drivers::testing::free_rtp_port();

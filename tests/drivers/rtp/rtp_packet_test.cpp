@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "drivers/rtp/rtp_calibration.h"
 #include "drivers/rtp/rtp_uri.h"
 
 namespace hd::drivers {
@@ -106,8 +107,25 @@ TEST(RtpPacket, RefusesEachMalformationByName) {
 }
 
 TEST(RtpPacket, AMillionMutatedPacketsNeverReadOutsideAndKeepTheirSpansInside) {
+  // hybrid-remote's marker packet: two-byte form with camera-state and the calibration element.
+  std::vector<uint8_t> calibrated = packet(0x90, {});
+  {
+    StreamCalibration c;
+    c.p_c = core::Pinhole::centred(500.0, 640, 480);
+    c.p_c.distortion_count = 4;
+    std::array<uint8_t, kCalibrationMaxSize> e{};
+    const std::size_t n = write_calibration(c, e);
+    const std::vector<uint8_t> one{0x25, 1, 0, 0, 0, 0, 0, 0};
+    std::array<uint8_t, 512> block{};
+    const std::size_t words =
+        to_two_byte_block(one, kCalibrationExtensionId, std::span(e.data(), n), block) / 4;
+    for (uint8_t b : {uint8_t(0x10), uint8_t(0x00), uint8_t(words >> 8), uint8_t(words)})
+      calibrated.push_back(b);
+    calibrated.insert(calibrated.end(), block.begin(), block.begin() + std::ptrdiff_t(4 * words));
+    calibrated.push_back(0x65);
+  }
   const std::vector<std::vector<uint8_t>> seeds{
-      packet(0x80, {0x65, 0x88, 0x84, 1, 2, 3}),
+      calibrated, packet(0x80, {0x65, 0x88, 0x84, 1, 2, 3}),
       packet(0x90, {0xBE, 0xDE, 0x00, 0x02, 0x12, 0xA, 0xB, 0xC, 0x00, 0x21, 0xD, 0xE, 0x77}),
       packet(0x90, {0x10, 0x00, 0x00, 0x02, 200, 3, 1, 2, 3, 0, 0, 0, 9}),
       packet(0xB1, {1, 2, 3, 4, 0xBE, 0xDE, 0x00, 0x01, 0x10, 5, 0, 0, 7, 2})};
@@ -142,6 +160,13 @@ TEST(RtpPacket, AMillionMutatedPacketsNeverReadOutsideAndKeepTheirSpansInside) {
         ASSERT_GE(d.data(), v.extension.data());
         ASSERT_LE(d.data() + d.size(), v.extension.data() + v.extension.size());
       }
+    }
+    // The stamp and calibration readers take whatever the parser accepted.
+    RtpFrameStamp stamp;
+    read_frame_stamp(v, stamp);
+    std::optional<StreamCalibration> c;
+    if (read_packet_calibration(v, stamp.camera, c) == CalibrationError::kNone && c) {
+      ASSERT_TRUE(c->p_c.valid() && c->T_world_cam.valid());
     }
   }
   EXPECT_GT(accepted, 10'000u);  // the mutations keep enough packets valid to reach the walker
