@@ -28,6 +28,7 @@ cmake --build build -j"$(nproc)" --target hybrid-station hybrid-remote hybrid-ge
 mkdir -p out/demo
 
 if [ "$single" = 1 ]; then
+  rm -f out/demo/remote.log  # a previous two-process run's: not this run's
   echo "== station: scenes/default.yaml, 20 s at 90 Hz, stereo, CPU compositor, headless, cameras simulated in-process =="
   ./build/bin/hybrid-station run --scene scenes/default.yaml --headless --rate 90 --out out/demo
 else
