@@ -13,6 +13,7 @@
 
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/gstreamer_init.h"
+#include "drivers/rtp/rtp_aux_bin.h"
 #include "drivers/rtp/rtp_receive_pipeline.h"
 
 namespace hd::drivers {
@@ -109,6 +110,45 @@ void RtpCamera::build() {
       g_object_new(GST_TYPE_SYSTEM_CLOCK, "clock-type", GST_CLOCK_TYPE_MONOTONIC, nullptr));
   gst_pipeline_use_clock(GST_PIPELINE(pipeline_), clock);
   gst_object_unref(clock);
+
+  {  // RTX: answer rtpbin's request for an aux receiver, then request the pad that asks for it
+    GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpBin);
+    if (config_.retransmission)
+      g_signal_connect(rtpbin, "request-aux-receiver",
+                       G_CALLBACK(+[](GstElement*, guint session, gpointer self) {
+                         auto* me = static_cast<RtpCamera*>(self);
+                         return make_rtp_aux_bin(rtx_receive_description(me->config_), session);
+                       }),
+                       this);
+    if (config_.retransmission)
+      g_signal_connect(rtpbin, "new-jitterbuffer",
+                       G_CALLBACK(+[](GstElement*, GstElement* jb, guint, guint, gpointer self) {
+                         const RtpReceiveConfig& c = static_cast<RtpCamera*>(self)->config_;
+                         g_object_set(jb, "rtx-delay", c.rtx_delay_ms, "rtx-delay-reorder",
+                                      c.rtx_delay_reorder, nullptr);
+                       }),
+                       this);
+    GstElement* session = nullptr;  // session 0 exists: the RTCP pads created it
+    g_signal_emit_by_name(rtpbin, "get-session", 0u, &session);
+    if (session != nullptr) {
+      g_object_set(session, "rtcp-fraction",
+                   static_cast<gdouble>(config_.rtcp_bandwidth_bytes_per_s), nullptr);
+      gst_object_unref(session);
+    }
+    const MediaLink from = receive_media_link(config_);
+    GstElement* last = gst_bin_get_by_name(GST_BIN(pipeline_), from.element);
+    const gboolean linked = gst_element_link_pads(last, from.pad, rtpbin, "recv_rtp_sink_0");
+    gst_object_unref(last);
+    gst_object_unref(rtpbin);
+    GstElement* rtx = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtxReceive);
+    const bool rtx_ok = !config_.retransmission || rtx != nullptr;
+    if (rtx != nullptr) gst_object_unref(rtx);  // the pipeline keeps it; looked up by name
+    if (!linked || !rtx_ok) {
+      teardown();
+      throw DeviceError("camera " + id() + ": cannot link the receive pipeline to rtpbin" +
+                        (config_.retransmission ? " (with its RTX aux receiver)" : ""));
+    }
+  }
 
   GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpSource);
   GstPad* pad = gst_element_get_static_pad(src, "src");
@@ -462,6 +502,13 @@ RtpCamera::Feedback RtpCamera::feedback() const {
   Feedback f;
   f.key_frame_requests = key_frame_requests_.load(std::memory_order_relaxed);
   if (pipeline_ == nullptr) return f;
+  if (GstElement* rtx = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtxReceive)) {
+    guint requests = 0, packets = 0;
+    g_object_get(rtx, "num-rtx-requests", &requests, "num-rtx-packets", &packets, nullptr);
+    gst_object_unref(rtx);
+    f.rtx_requested = requests;
+    f.rtx_received = packets;
+  }
   GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpBin);
   GObject* session = nullptr;
   g_signal_emit_by_name(rtpbin, "get-internal-session", 0u, &session);
@@ -493,6 +540,18 @@ RtpCamera::Feedback RtpCamera::feedback() const {
   G_GNUC_END_IGNORE_DEPRECATIONS
   gst_structure_free(stats);
   return f;
+}
+
+bool RtpCamera::request_key_frame() {
+  if (pipeline_ == nullptr) return false;
+  GstElement* depay = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kDepayloader);
+  GstPad* pad = gst_element_get_static_pad(depay, "sink");
+  const gboolean sent = gst_pad_push_event(
+      pad, gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 0));
+  gst_object_unref(pad);
+  gst_object_unref(depay);
+  if (sent) key_frame_requests_.fetch_add(1, std::memory_order_relaxed);
+  return sent;
 }
 
 bool RtpCamera::set_netsim_drop_probability(double p) {

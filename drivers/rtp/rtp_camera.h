@@ -115,8 +115,16 @@ class RtpCamera final : public CameraSource {
     /// Key frames this camera asked for itself when packets came back after a stall (each
     /// becomes an RTCP PLI); the depayloader asks on its own on every detected loss.
     uint64_t key_frame_requests = 0;
+    /// RTX (this pipeline's rtprtxreceive): packets the jitter buffer asked to be sent again,
+    /// and retransmissions (RFC 4588 packets of the RTX payload type) received.
+    uint64_t rtx_requested = 0;
+    uint64_t rtx_received = 0;
   };
   Feedback feedback() const;
+  /// Asks the sender for a key frame now: an upstream force-key-unit event from the
+  /// depayloader, which rtpbin sends as an RTCP PLI. False when the pipeline is not built. Not
+  /// for the render thread.
+  bool request_key_frame();
   /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
   /// link. False when there is no netsim in the path.
   bool set_netsim_drop_probability(double p);

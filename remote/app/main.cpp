@@ -57,6 +57,10 @@ int main(int argc, char** argv) {
                  "joins or loses packets shows video again")
       ->capture_default_str()
       ->check(CLI::Range(0.05, 10.0));
+  bool no_rtx = false;
+  app.add_flag("--no-rtx", no_rtx,
+               "answer no NACKs (no RTX, RFC 4588): a lost packet is then repaired only by the "
+               "next key frame");
   std::string key_file;
   app.add_option("--key-file", key_file,
                  "pre-shared SRTP key (56 hex digits: AES-128-GCM key + salt), readable by its "
@@ -102,6 +106,7 @@ int main(int argc, char** argv) {
     c.camera_index = static_cast<uint8_t>(i);
     c.calibration_revision = 1;  // the scene's calibration is fixed for the run
     c.srtp_key = key;
+    c.retransmission = !no_rtx;
     auto s = std::make_unique<hd::remote::RtpSender>(c);
     try {
       s->start();
@@ -112,11 +117,16 @@ int main(int argc, char** argv) {
     std::printf(
         "  camera %zu %-10s %dx%d at %g Hz -> rtp://%s:%d (RTCP %d): x264enc (software; "
         "zerolatency, ultrafast, no B-frames, key frame every %d frames, VBV %d ms = one frame, "
-        "%d kbit/s), rtph264pay, rtpbin; per packet: ntp-64 capture time (CLOCK_REALTIME: the "
+        "%d kbit/s), rtph264pay, rtpbin (%s); per packet: ntp-64 capture time (CLOCK_REALTIME: the "
         "station maps it exactly on one host, else as well as the hosts' clocks agree) and "
         "camera-state (index %zu, calibration revision %u)\n",
         i, sc.name.c_str(), c.width_px, c.height_px, c.rate_hz, c.host.c_str(), c.port, c.port + 1,
-        c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps, i, c.calibration_revision);
+        c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps,
+        c.retransmission ? ("RTX: NACKed packets of the last " + std::to_string(c.rtx_history_ms) +
+                            " ms sent again, payload type " + std::to_string(c.rtx_payload_type))
+                               .c_str()
+                         : "no RTX",
+        i, c.calibration_revision);
     senders.push_back(std::move(s));
   }
   std::printf("  security: %s\n",

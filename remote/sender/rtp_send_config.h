@@ -21,7 +21,13 @@ struct RtpSendConfig {
   /// a link cut, decodes within this time even without asking (x264enc key-int-max).
   double key_interval_s = 0.5;
   int payload_type = 96;
-  int mtu_bytes = 1200;  ///< below any path's MTU, with room for the header extensions
+  /// RTX (RFC 4588): the last rtx_history_ms of packets are kept (rtprtxsend, rtpbin's aux
+  /// sender) and a packet the station NACKs is sent again on its own SSRC with
+  /// rtx_payload_type. Off: NACKs are ignored (a plain sender).
+  bool retransmission = true;
+  int rtx_payload_type = 97;
+  int rtx_history_ms = 500;  ///< older packets are past any jitter buffer's deadline
+  int mtu_bytes = 1200;      ///< below any path's MTU, with room for the header extensions
   uint8_t camera_index = 0;
   uint32_t calibration_revision = 0;
   /// With a key: SRTP AES-128-GCM (srtpenc) on media and RTCP.

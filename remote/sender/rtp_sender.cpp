@@ -10,6 +10,7 @@
 
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/gstreamer_init.h"
+#include "drivers/rtp/rtp_aux_bin.h"
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "remote/sender/rtp_send_pipeline.h"
 
@@ -35,6 +36,7 @@ RtpSender::RtpSender(RtpSendConfig config) : config_(std::move(config)) {}
 RtpSender::~RtpSender() {
   stop();
   if (appsrc_ != nullptr) gst_object_unref(appsrc_);
+  if (rtxsend_ != nullptr) gst_object_unref(rtxsend_);
   if (pipeline_ != nullptr) gst_object_unref(pipeline_);
 }
 
@@ -82,6 +84,25 @@ void RtpSender::start() {
       gst_object_unref(out);
     }
     GstElement* pay = by_name(pipeline_, send_elements::kPayloader);
+    {  // RTX: answer rtpbin's request for an aux sender, then request the pad that asks for it
+      GstElement* rtpbin = by_name(pipeline_, send_elements::kRtpBin);
+      if (config_.retransmission)
+        g_signal_connect(rtpbin, "request-aux-sender",
+                         G_CALLBACK(+[](GstElement*, guint session, gpointer self) {
+                           auto* me = static_cast<RtpSender*>(self);
+                           return drivers::make_rtp_aux_bin(rtx_send_description(me->config_),
+                                                            session);
+                         }),
+                         this);
+      const gboolean linked = gst_element_link_pads(pay, "src", rtpbin, "send_rtp_sink_0");
+      gst_object_unref(rtpbin);
+      if (!linked)
+        throw std::runtime_error("stream to " + where + ": cannot link the payloader to rtpbin" +
+                                 (config_.retransmission ? " (with its RTX aux sender)" : ""));
+      if (config_.retransmission) rtxsend_ = by_name(pipeline_, send_elements::kRtxSend);
+      if (config_.retransmission && rtxsend_ == nullptr)
+        throw std::runtime_error("stream to " + where + ": rtpbin took no RTX aux sender");
+    }
     GstElement* ntp = gst_element_factory_make("rtphdrextntp64", nullptr);
     if (ntp == nullptr)
       throw std::runtime_error("stream to " + where +
@@ -159,8 +180,14 @@ bool RtpSender::push(const drivers::Frame& f) {
 // The encoded frame, before the payloader: the capture time push() attached (a reference
 // timestamp meta, which videoconvert and x264enc carry over) is what rtphdrextntp64 writes.
 GstPadProbeReturn RtpSender::on_encoded(GstPadProbeInfo* info) {
+  GstBuffer* b = GST_PAD_PROBE_INFO_BUFFER(info);
+  const uint64_t index = frames_encoded_.fetch_add(1, std::memory_order_relaxed);
+  if (!GST_BUFFER_FLAG_IS_SET(b, GST_BUFFER_FLAG_DELTA_UNIT)) {
+    last_key_frame_index_.store(index, std::memory_order_relaxed);
+    key_frames_.fetch_add(1, std::memory_order_release);
+  }
   GstCaps* caps = gst_caps_new_empty_simple("timestamp/x-ntp");
-  if (gst_buffer_get_reference_timestamp_meta(GST_PAD_PROBE_INFO_BUFFER(info), caps) != nullptr)
+  if (gst_buffer_get_reference_timestamp_meta(b, caps) != nullptr)
     frames_stamped_.fetch_add(1, std::memory_order_relaxed);
   gst_caps_unref(caps);
   return GST_PAD_PROBE_OK;
@@ -194,7 +221,18 @@ GstPadProbeReturn RtpSender::on_packets(GstPadProbeInfo* info) {
 }
 
 RtpSenderStats RtpSender::stats() const {
-  return {pushed_.load(), refused_.load(), packets_stamped_.load(), frames_stamped_.load()};
+  RtpSenderStats s{pushed_.load(), refused_.load(), packets_stamped_.load(),
+                   frames_stamped_.load()};
+  s.frames_encoded = frames_encoded_.load();
+  s.key_frames = key_frames_.load();
+  s.last_key_frame_index = last_key_frame_index_.load();
+  if (rtxsend_ != nullptr) {
+    guint requests = 0, packets = 0;
+    g_object_get(rtxsend_, "num-rtx-requests", &requests, "num-rtx-packets", &packets, nullptr);
+    s.rtx_requests = requests;
+    s.rtx_packets_sent = packets;
+  }
+  return s;
 }
 
 }  // namespace hd::remote

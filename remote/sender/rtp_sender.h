@@ -14,9 +14,15 @@ namespace hd::remote {
 
 struct RtpSenderStats {
   uint64_t frames_pushed = 0;
-  uint64_t frames_refused = 0;   ///< wrong size, or captured before the pipeline started
-  uint64_t packets_stamped = 0;  ///< packets that got the camera-state element
-  uint64_t frames_stamped = 0;   ///< encoded frames that got their capture time (ntp-64)
+  uint64_t frames_refused = 0;        ///< wrong size, or captured before the pipeline started
+  uint64_t packets_stamped = 0;       ///< packets that got the camera-state element
+  uint64_t frames_stamped = 0;        ///< encoded frames that got their capture time (ntp-64)
+  uint64_t frames_encoded = 0;        ///< frames out of the encoder (index of the next one)
+  uint64_t key_frames = 0;            ///< of them IDRs (not delta units): periodic and requested
+  uint64_t last_key_frame_index = 0;  ///< the newest IDR's index among frames_encoded
+  /// RTX: NACKed packets asked for (rtprtxsend's retransmission events) / sent again.
+  uint64_t rtx_requests = 0;
+  uint64_t rtx_packets_sent = 0;
 };
 
 /// Builds send_pipeline_description(), adds GStreamer's rtphdrextntp64 (id 1, every packet) to
@@ -50,9 +56,11 @@ class RtpSender {
   RtpSendConfig config_;
   GstElement* pipeline_ = nullptr;
   GstElement* appsrc_ = nullptr;
+  GstElement* rtxsend_ = nullptr;  // inside rtpbin's aux sender (retransmission only)
   GstClockTime base_time_ = 0;
   bool playing_ = false;
   std::atomic<uint64_t> pushed_{0}, refused_{0}, packets_stamped_{0}, frames_stamped_{0};
+  std::atomic<uint64_t> frames_encoded_{0}, key_frames_{0}, last_key_frame_index_{0};
 };
 
 }  // namespace hd::remote
