@@ -134,6 +134,10 @@ int64_t Simulation::epoch_ns() const {
   return epoch_->get();
 }
 
+bool Simulation::set_epoch_ns(int64_t host_ns) {
+  return epoch_->claim(host_ns) == host_ns;
+}
+
 double Simulation::scene_time_s(int64_t host_ns) const {
   return static_cast<double>(host_ns - epoch_->get()) * 1e-9;
 }

@@ -74,8 +74,13 @@ class Simulation {
   }
 
   // ---- time ----
-  /// Host time of scene t = 0; 0 before any device started.
+  /// Host time of scene t = 0; 0 before any device started (or set_epoch_ns).
   int64_t epoch_ns() const;
+  /// Fixes scene t = 0 at host time `host_ns` (CLOCK_MONOTONIC; may lie ahead: the devices then
+  /// wait for it) before any device starts, so that two processes simulating parts of one scene
+  /// (hybrid-remote's cameras, the station's head) share its clock (sim/scene_epoch.h). False when
+  /// the epoch was already set to another instant (a device had started).
+  bool set_epoch_ns(int64_t host_ns);
   double scene_time_s(int64_t host_ns) const;
 
   // ---- deterministic, offline (tests, benchmarks; independent of the running devices) ----

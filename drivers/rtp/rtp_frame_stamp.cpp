@@ -16,6 +16,10 @@ std::string_view to_string(StampError e) {
       return "camera-state element not 6 bytes";
     case StampError::kBadStateVersion:
       return "camera-state element of an unknown version";
+    case StampError::kBadStagesSize:
+      return "sender-stages element not 14 bytes";
+    case StampError::kBadStagesVersion:
+      return "sender-stages element of an unknown version";
     case StampError::kCount:
       break;
   }
@@ -37,6 +41,21 @@ uint64_t unix_ns_to_ntp64(int64_t unix_ns) {
   return (s << 32) | (((ns << 32) + 500'000'000ull) / 1'000'000'000ull);
 }
 
+namespace {
+
+uint32_t be32(std::span<const uint8_t> d) {
+  return (uint32_t{d[0]} << 24) | (uint32_t{d[1]} << 16) | (uint32_t{d[2]} << 8) | d[3];
+}
+
+void put_be32(uint32_t v, uint8_t* out) {
+  out[0] = uint8_t(v >> 24);
+  out[1] = uint8_t(v >> 16);
+  out[2] = uint8_t(v >> 8);
+  out[3] = uint8_t(v);
+}
+
+}  // namespace
+
 StampError read_frame_stamp(const RtpPacketView& packet, RtpFrameStamp& out) {
   out = {};
   std::span<const uint8_t> d;
@@ -45,9 +64,18 @@ StampError read_frame_stamp(const RtpPacketView& packet, RtpFrameStamp& out) {
     if (d[0] != kCameraStateVersion) return StampError::kBadStateVersion;
     CameraStateStamp s;
     s.camera_index = d[1];
-    s.calibration_revision =
-        (uint32_t{d[2]} << 24) | (uint32_t{d[3]} << 16) | (uint32_t{d[4]} << 8) | d[5];
+    s.calibration_revision = be32(d.subspan(2));
     out.camera = s;
+  }
+  if (find_rtp_extension(packet, kSenderStagesExtensionId, d)) {
+    if (d.size() != kSenderStagesSize) return StampError::kBadStagesSize;
+    if (d[0] != kSenderStagesVersion) return StampError::kBadStagesVersion;
+    SenderStagesStamp s;
+    s.round_trip_count = d[1];
+    s.encoded_us = be32(d.subspan(2));
+    s.sent_us = be32(d.subspan(6));
+    s.round_trip_us = be32(d.subspan(10));
+    out.stages = s;
   }
   if (!find_rtp_extension(packet, kNtp64ExtensionId, d)) return StampError::kNoNtp;
   if (d.size() != 8) return StampError::kBadNtpSize;
@@ -61,10 +89,15 @@ StampError read_frame_stamp(const RtpPacketView& packet, RtpFrameStamp& out) {
 void write_camera_state(const CameraStateStamp& s, std::span<uint8_t, kCameraStateSize> out) {
   out[0] = kCameraStateVersion;
   out[1] = s.camera_index;
-  out[2] = uint8_t(s.calibration_revision >> 24);
-  out[3] = uint8_t(s.calibration_revision >> 16);
-  out[4] = uint8_t(s.calibration_revision >> 8);
-  out[5] = uint8_t(s.calibration_revision);
+  put_be32(s.calibration_revision, &out[2]);
+}
+
+void write_sender_stages(const SenderStagesStamp& s, std::span<uint8_t, kSenderStagesSize> out) {
+  out[0] = kSenderStagesVersion;
+  out[1] = s.round_trip_count;
+  put_be32(s.encoded_us, &out[2]);
+  put_be32(s.sent_us, &out[6]);
+  put_be32(s.round_trip_us, &out[10]);
 }
 
 }  // namespace hd::drivers

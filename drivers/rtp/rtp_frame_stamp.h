@@ -15,9 +15,12 @@ namespace hd::drivers {
 /// One-byte-header element ids hybrid-remote uses (the extmap it would announce in SDP).
 inline constexpr uint8_t kNtp64ExtensionId = 1;
 inline constexpr uint8_t kCameraStateExtensionId = 2;
+inline constexpr uint8_t kSenderStagesExtensionId = 4;
 inline constexpr std::string_view kNtp64ExtensionUri = "urn:ietf:params:rtp-hdrext:ntp-64";
 inline constexpr std::string_view kCameraStateExtensionUri =
     "urn:hybrid-display:rtp-hdrext:camera-state";
+inline constexpr std::string_view kSenderStagesExtensionUri =
+    "urn:hybrid-display:rtp-hdrext:sender-stages";
 
 /// Seconds from the NTP epoch (1900) to the Unix epoch (1970).
 inline constexpr int64_t kNtpUnixOffsetS = 2'208'988'800LL;
@@ -31,6 +34,20 @@ struct CameraStateStamp {
 inline constexpr std::size_t kCameraStateSize = 6;
 inline constexpr uint8_t kCameraStateVersion = 1;
 
+/// The sender-stages element's 14 bytes: version (1), round-trip count (u8, wraps; 0 = none
+/// measured yet), then big endian u32s: microseconds from the frame's capture to its encoded
+/// frame reaching the payloader, to this packet leaving the payloader (sent), and the newest
+/// round trip to the station the sender measured from the station's receiver reports (RFC 3550
+/// A.8). Durations on the sender's clock, so the station needs no offset to use them.
+struct SenderStagesStamp {
+  uint32_t encoded_us = 0;
+  uint32_t sent_us = 0;
+  uint8_t round_trip_count = 0;
+  uint32_t round_trip_us = 0;
+};
+inline constexpr std::size_t kSenderStagesSize = 14;
+inline constexpr uint8_t kSenderStagesVersion = 1;
+
 /// Why a packet's stamp was not taken (each is counted; the frame then counts as unstamped).
 enum class StampError : uint8_t {
   kNone,
@@ -39,6 +56,8 @@ enum class StampError : uint8_t {
   kZeroNtp,
   kBadStateSize,
   kBadStateVersion,
+  kBadStagesSize,
+  kBadStagesVersion,
   kCount
 };
 std::string_view to_string(StampError e);
@@ -47,10 +66,12 @@ std::string_view to_string(StampError e);
 struct RtpFrameStamp {
   std::optional<int64_t> capture_unix_ns;  ///< the sender's capture time, Unix epoch, ns
   std::optional<CameraStateStamp> camera;
+  std::optional<SenderStagesStamp> stages;
 };
 
-/// Reads both elements of a parsed packet. A missing camera-state element is no error (a plain
-/// sender); a missing ntp-64 element is kNoNtp; malformed values are refused by name.
+/// Reads the elements of a parsed packet. A missing camera-state or sender-stages element is no
+/// error (a plain sender); a missing ntp-64 element is kNoNtp; malformed values are refused by
+/// name.
 StampError read_frame_stamp(const RtpPacketView& packet, RtpFrameStamp& out);
 
 /// ntp-64 (32.32 fixed point seconds since 1900) <-> Unix ns; nullopt before 1970. NTP era 0 only
@@ -60,5 +81,7 @@ uint64_t unix_ns_to_ntp64(int64_t unix_ns);
 
 /// Writes the camera-state element's 6 bytes.
 void write_camera_state(const CameraStateStamp& s, std::span<uint8_t, kCameraStateSize> out);
+/// Writes the sender-stages element's 14 bytes.
+void write_sender_stages(const SenderStagesStamp& s, std::span<uint8_t, kSenderStagesSize> out);
 
 }  // namespace hd::drivers

@@ -18,6 +18,7 @@
 #include "remote/sender/rtp_sender.h"
 #include "sim/scene/config_error.h"
 #include "sim/scene/scene_file.h"
+#include "sim/scene_epoch.h"
 #include "sim/simulation.h"
 
 namespace {
@@ -65,6 +66,12 @@ int main(int argc, char** argv) {
   app.add_option("--key-file", key_file,
                  "pre-shared SRTP key (56 hex digits: AES-128-GCM key + salt), readable by its "
                  "owner only; media and RTCP are then encrypted and authenticated");
+  std::string scene_epoch;
+  app.add_option("--scene-epoch", scene_epoch,
+                 "scene t = 0 as a CLOCK_REALTIME instant, seconds since 1970 (e.g. "
+                 "$(date +%s.%N) + a few s); give the station the same, so the objects these "
+                 "cameras see and the station's head follow one scene clock (default: this "
+                 "program's start)");
   CLI11_PARSE(app, argc, argv);
 
   std::string why;
@@ -79,6 +86,14 @@ int main(int argc, char** argv) {
       key = hd::drivers::read_srtp_key_file(key_file);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "hybrid-remote: --key-file: %s\n", e.what());
+      return 2;
+    }
+  }
+  std::optional<int64_t> epoch_realtime_ns;
+  if (!scene_epoch.empty()) {
+    epoch_realtime_ns = hd::sim::parse_scene_epoch(scene_epoch, why);
+    if (!epoch_realtime_ns) {
+      std::fprintf(stderr, "hybrid-remote: --scene-epoch: %s\n", why.c_str());
       return 2;
     }
   }
@@ -132,6 +147,15 @@ int main(int argc, char** argv) {
   std::printf("  security: %s\n",
               key ? ("SRTP AES-128-GCM on media and RTCP, key file " + key->file).c_str()
                   : "none: RTP in the clear (no --key-file)");
+  if (epoch_realtime_ns) {
+    const int64_t epoch_mono = hd::sim::realtime_to_monotonic_ns(*epoch_realtime_ns);
+    sim->set_epoch_ns(epoch_mono);
+    std::printf("  scene time: t = 0 at --scene-epoch %s (CLOCK_REALTIME), %+.3f s from now\n",
+                scene_epoch.c_str(),
+                1e-9 * static_cast<double>(epoch_mono - hd::drivers::monotonic_now_ns()));
+  } else {
+    std::printf("  scene time: t = 0 when the cameras start (no --scene-epoch)\n");
+  }
   std::printf("  p_c: not sent; give the station the same calibration (issue 12 item 1, open)\n");
   std::fflush(stdout);
 

@@ -1,6 +1,7 @@
 #include "render/lens/cpu_predistorter.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -113,38 +114,187 @@ __attribute__((target("avx2"))) int span_avx2(const uint8_t* base, int stride, c
   return x;
 }
 
+// --- kRadial ---------------------------------------------------------------------------------
+
+// Where one channel of 8 pixels samples, ready for the fetch: the gather indices of the top-left
+// texels (lanes reordered {0, 1, 4, 5, 2, 3, 6, 7}, see fetch8_pairs), the horizontal weights as
+// 16-bit words (256 - fx, fx) and fy.
+struct Taps8 {
+  __m256i idx, wx, fy;
+};
+
+__attribute__((target("avx2,fma"))) inline Taps8 taps8(int stride4, __m256i X, __m256i Y,
+                                                       __m256i x_min, __m256i x_max,
+                                                       __m256i y_max) {
+  X = _mm256_min_epi32(_mm256_max_epi32(X, x_min), x_max);
+  Y = _mm256_min_epi32(_mm256_max_epi32(Y, _mm256_setzero_si256()), y_max);
+  const __m256i m255 = _mm256_set1_epi32(255);
+  const __m256i idx =
+      _mm256_add_epi32(_mm256_mullo_epi32(_mm256_srai_epi32(Y, 8), _mm256_set1_epi32(stride4)),
+                       _mm256_srai_epi32(X, 8));
+  const __m256i fx = _mm256_and_si256(X, m255);
+  return {_mm256_permutevar8x32_epi32(idx, _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7)),
+          _mm256_sub_epi32(_mm256_add_epi32(_mm256_slli_epi32(fx, 16), _mm256_set1_epi32(256)), fx),
+          _mm256_and_si256(Y, m255)};
+}
+
+// sample_fixed for 8 pixels at once, each pair of horizontally adjacent texels fetched by one
+// 64-bit gather lane and weighed by pmaddwd (the same integer arithmetic, so the same bytes:
+// top * (256 - fy) + bottom * fy = 256 * top + (bottom - top) * fy).
+// `pick_lo` / `pick_hi` move the channel's two bytes of each pair (RGBA RGBA) into 16-bit words:
+// the gathers of lanes {0, 1, 4, 5} fill the low 8 bytes of each 128-bit lane, those of
+// {2, 3, 6, 7} the high 8, which puts the pixels back in order.
+__attribute__((target("avx2,fma"))) inline __m256i fetch8_pairs(const long long* base, int stride4,
+                                                                const Taps8& t, __m256i pick_lo,
+                                                                __m256i pick_hi) {
+  const __m128i lo = _mm256_castsi256_si128(t.idx), hi = _mm256_extracti128_si256(t.idx, 1);
+  const __m128i row = _mm_set1_epi32(stride4);
+  const __m256i t_lo = _mm256_i32gather_epi64(base, lo, 4);
+  const __m256i t_hi = _mm256_i32gather_epi64(base, hi, 4);
+  const __m256i b_lo = _mm256_i32gather_epi64(base, _mm_add_epi32(lo, row), 4);
+  const __m256i b_hi = _mm256_i32gather_epi64(base, _mm_add_epi32(hi, row), 4);
+  const __m256i top_w =
+      _mm256_or_si256(_mm256_shuffle_epi8(t_lo, pick_lo), _mm256_shuffle_epi8(t_hi, pick_hi));
+  const __m256i bottom_w =
+      _mm256_or_si256(_mm256_shuffle_epi8(b_lo, pick_lo), _mm256_shuffle_epi8(b_hi, pick_hi));
+  const __m256i top = _mm256_madd_epi16(top_w, t.wx);
+  const __m256i bottom = _mm256_madd_epi16(bottom_w, t.wx);
+  const __m256i sum =
+      _mm256_add_epi32(_mm256_add_epi32(_mm256_slli_epi32(top, 8),
+                                        _mm256_mullo_epi32(_mm256_sub_epi32(bottom, top), t.fy)),
+                       _mm256_set1_epi32(32768));
+  return _mm256_srli_epi32(sum, 16);
+}
+
+struct RadialArgs {
+  const uint8_t* base;
+  int stride;
+  const float* ratio;
+  int ratio_terms;
+  float d0x, kx, dy, ry2;  // row constants: dy = float(y) + d0[1], ry2 = (dy * k[1])^2
+  const float (*gain256)[2];
+  const float* origin256;
+  int x_lo, x_hi, y_hi;
+};
+
+// Panel columns [x, end) of one row and eye (x - half_offset = the column in the half), in chunks
+// of up to kChunk groups of 8: first every sample point of the chunk (into a small buffer on the
+// stack, in L1), then the fetches. Two short dependency chains instead of one long one let the
+// core overlap more groups' gathers. The last partial group is computed whole and stored under
+// a mask (its extra lanes are clamped into the eye like any other sample, so they read inside
+// the image).
+__attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, uint32_t* out, int x,
+                                                          int end, int half_offset) {
+  constexpr int kChunk = 16;
+  const long long* b64 = reinterpret_cast<const long long*>(a.base);
+  const int stride4 = a.stride / 4;
+  const __m256i x_min = _mm256_set1_epi32(a.x_lo * 256),
+                x_max = _mm256_set1_epi32(a.x_hi * 256 - 1);
+  const __m256i y_max = _mm256_set1_epi32(a.y_hi * 256 - 1);
+  const __m256i alpha = _mm256_set1_epi32(static_cast<int>(0xFF000000u));
+  const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256 d0x = _mm256_set1_ps(a.d0x), kx = _mm256_set1_ps(a.kx);
+  const __m256 dy = _mm256_set1_ps(a.dy), ry2 = _mm256_set1_ps(a.ry2);
+  const __m256 top_coeff = _mm256_set1_ps(a.ratio[a.ratio_terms - 1]);
+  __m256i pick_lo[3], pick_hi[3];
+  for (int c = 0; c < 3; ++c) {
+    const char z = -128;  // pshufb: zero
+    const char b0 = static_cast<char>(c), b1 = static_cast<char>(c + 4),
+               b2 = static_cast<char>(c + 8), b3 = static_cast<char>(c + 12);
+    pick_lo[c] = _mm256_setr_epi8(b0, z, b1, z, b2, z, b3, z, z, z, z, z, z, z, z, z,  //
+                                  b0, z, b1, z, b2, z, b3, z, z, z, z, z, z, z, z, z);
+    pick_hi[c] = _mm256_setr_epi8(z, z, z, z, z, z, z, z, b0, z, b1, z, b2, z, b3, z,  //
+                                  z, z, z, z, z, z, z, z, b0, z, b1, z, b2, z, b3, z);
+  }
+  __m256 gx[3], gy[3];
+  for (int c = 0; c < 3; ++c) {
+    gx[c] = _mm256_set1_ps(a.gain256[c][0]);
+    gy[c] = _mm256_set1_ps(a.gain256[c][1]);
+  }
+  const __m256 ox = _mm256_set1_ps(a.origin256[0]), oy = _mm256_set1_ps(a.origin256[1]);
+  Taps8 taps[kChunk][3];
+  while (x < end) {
+    const int groups = std::min(kChunk, (end - x + 7) / 8);
+    for (int g = 0; g < groups; ++g) {
+      const __m256i col = _mm256_add_epi32(_mm256_set1_epi32(x + 8 * g - half_offset), iota);
+      const __m256 dx = _mm256_add_ps(_mm256_cvtepi32_ps(col), d0x);
+      const __m256 rx = _mm256_mul_ps(dx, kx);
+      const __m256 r = _mm256_sqrt_ps(_mm256_fmadd_ps(rx, rx, ry2));
+      __m256 t = top_coeff;
+      for (int i = a.ratio_terms - 2; i >= 0; --i)
+        t = _mm256_fmadd_ps(t, r, _mm256_set1_ps(a.ratio[i]));
+      const __m256 ax = _mm256_mul_ps(t, dx), ay = _mm256_mul_ps(t, dy);
+      for (int c = 0; c < 3; ++c)
+        taps[g][c] =
+            taps8(stride4, _mm256_cvttps_epi32(_mm256_fmadd_ps(ax, gx[c], ox)),
+                  _mm256_cvttps_epi32(_mm256_fmadd_ps(ay, gy[c], oy)), x_min, x_max, y_max);
+    }
+    for (int g = 0; g < groups; ++g, x += 8) {
+      const __m256i r = fetch8_pairs(b64, stride4, taps[g][0], pick_lo[0], pick_hi[0]);
+      const __m256i gr = fetch8_pairs(b64, stride4, taps[g][1], pick_lo[1], pick_hi[1]);
+      const __m256i bl = fetch8_pairs(b64, stride4, taps[g][2], pick_lo[2], pick_hi[2]);
+      const __m256i px = _mm256_or_si256(_mm256_or_si256(r, _mm256_slli_epi32(gr, 8)),
+                                         _mm256_or_si256(_mm256_slli_epi32(bl, 16), alpha));
+      if (end - x >= 8) {
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), px);
+      } else {
+        const __m256i keep = _mm256_cmpgt_epi32(_mm256_set1_epi32(end - x), iota);
+        _mm256_maskstore_epi32(reinterpret_cast<int*>(out + x), keep, px);
+      }
+    }
+  }
+}
+
 bool cpu_has_avx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
+  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   return has;
 }
 #endif
 
 bool sizes_fit(const LensWarp& w, const ImageRgba8& eyes, const ImageRgba8& panel) {
   return eyes.width >= 2 * w.eye_width() && eyes.height >= w.eye_height() &&
-         panel.width == w.panel_width() && panel.height == w.panel_height() &&
+         eyes.stride_bytes % 4 == 0 && panel.width == w.panel_width() &&
+         panel.height == w.panel_height() &&
          eyes.data.size() >= static_cast<std::size_t>(eyes.stride_bytes) * eyes.height &&
          panel.data.size() >= static_cast<std::size_t>(panel.stride_bytes) * panel.height;
 }
 
+// Spin this long for the worker's band before sleeping on the atomic: the two bands take about
+// the same time, so the wait is short, and a futex wake-up can cost tens of microseconds.
+constexpr auto kSpin = std::chrono::microseconds(200);
+
+// Waits until `a` != `old` (spinning for at most kSpin first); returns the new value.
+uint64_t wait_change(const std::atomic<uint64_t>& a, uint64_t old, bool spin) {
+  uint64_t v = a.load(std::memory_order_acquire);
+  if (spin && v == old) {
+    const auto until = std::chrono::steady_clock::now() + kSpin;
+    for (int i = 0; v == old; ++i) {
+#if defined(__x86_64__)
+      _mm_pause();
+#endif
+      v = a.load(std::memory_order_acquire);
+      if ((i & 63) == 63 && std::chrono::steady_clock::now() > until) break;
+    }
+  }
+  while (v == old) {
+    a.wait(old, std::memory_order_acquire);
+    v = a.load(std::memory_order_acquire);
+  }
+  return v;
+}
+
 }  // namespace
 
-CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, bool simd)
-    : warp_(warp), threads_(std::clamp(threads, 1, 2)) {
+CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, bool simd, Method method)
+    : warp_(warp), method_(method), threads_(std::clamp(threads, 1, 2)) {
 #if HD_LENS_AVX2
   simd_ = simd && cpu_has_avx2();
 #else
   (void)simd;
 #endif
   const int pw = warp_.panel_width(), ph = warp_.panel_height(), hw = warp_.eye_panel_width();
-  positions_.assign(static_cast<std::size_t>(pw) * ph * 2, 0);
+  const int ew = warp_.eye_width();
   spans_.assign(static_cast<std::size_t>(ph) * 2, Span{});
-  for (int c = 0; c < 3; ++c)
-    scale_fixed_[c] = static_cast<int32_t>(std::lround(warp_.channel_scale(c) * 65536.0));
-  for (int e = 0; e < 2; ++e) {
-    centre_fixed_[e][0] =
-        static_cast<int32_t>(std::lround((warp_.eye(e).cx + e * warp_.eye_width() - 0.5) * 256.0));
-    centre_fixed_[e][1] = static_cast<int32_t>(std::lround((warp_.eye(e).cy - 0.5) * 256.0));
-  }
   for (int y = 0; y < ph; ++y) {
     for (int e = 0; e < 2; ++e) {
       Span& s = spans_[static_cast<std::size_t>(y) * 2 + e];
@@ -153,9 +303,6 @@ CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, bool simd)
       for (int x = 0; x < hw; ++x) {
         double u = 0.0, v = 0.0;
         if (!warp_.source(e, x + 0.5, y + 0.5, 1, &u, &v)) continue;
-        const std::size_t i = (static_cast<std::size_t>(y) * pw + e * hw + x) * 2;
-        positions_[i] = static_cast<int32_t>(std::floor((u + e * warp_.eye_width() - 0.5) * 256.0));
-        positions_[i + 1] = static_cast<int32_t>(std::floor((v - 0.5) * 256.0));
         // The usable region is a disc cut by the half: one span per row.
         if (!open) s.begin = e * hw + x;
         open = true;
@@ -163,13 +310,73 @@ CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, bool simd)
       }
     }
   }
+  // Equal work for the two bands: the usable pixels, plus the black ones at an eighth.
+  std::vector<double> work(static_cast<std::size_t>(ph), 0.0);
+  double total = 0.0;
+  for (int y = 0; y < ph; ++y) {
+    double w = 0.0;
+    for (int e = 0; e < 2; ++e) {
+      const Span& s = spans_[static_cast<std::size_t>(y) * 2 + e];
+      w += (s.end - s.begin) + 0.125 * (hw - (s.end - s.begin));
+    }
+    work[static_cast<std::size_t>(y)] = w;
+    total += w;
+  }
+  split_row_ = ph / 2;
+  double acc = 0.0;
+  for (int y = 0; y < ph; ++y) {
+    acc += work[static_cast<std::size_t>(y)];
+    if (acc >= 0.5 * total) {
+      split_row_ = std::clamp(y + 1, 1, std::max(1, ph - 1));
+      break;
+    }
+  }
+
+  const std::vector<double>& k = warp_.profile().coefficients;
+  ratio_terms_ = std::clamp(static_cast<int>(k.size()) - 1, 1, kMaxRatioTerms);
+  for (int i = 0; i < ratio_terms_; ++i)
+    ratio_[i] = static_cast<float>(static_cast<std::size_t>(i) + 1 < k.size() ? k[i + 1] : 0.0);
+  for (int e = 0; e < 2; ++e) {
+    const LensWarp::PanelMap m = warp_.panel_map(e);
+    RadialEye& r = radial_[e];
+    for (int a = 0; a < 2; ++a) {
+      r.d0[a] = static_cast<float>(0.5 - m.centre_px[a]);
+      r.k[a] = static_cast<float>(m.r_per_px[a]);
+      for (int c = 0; c < 3; ++c)
+        r.gain256[c][a] = static_cast<float>(256.0 * m.gain[static_cast<std::size_t>(c)][a]);
+    }
+    r.origin256[0] = static_cast<float>(256.0 * (warp_.eye(e).cx + e * ew - 0.5));
+    r.origin256[1] = static_cast<float>(256.0 * (warp_.eye(e).cy - 0.5));
+  }
+
+  for (int c = 0; c < 3; ++c)
+    scale_fixed_[c] = static_cast<int32_t>(std::lround(warp_.channel_scale(c) * 65536.0));
+  for (int e = 0; e < 2; ++e) {
+    centre_fixed_[e][0] =
+        static_cast<int32_t>(std::lround((warp_.eye(e).cx + e * ew - 0.5) * 256.0));
+    centre_fixed_[e][1] = static_cast<int32_t>(std::lround((warp_.eye(e).cy - 0.5) * 256.0));
+  }
+  if (method_ == Method::kPositionTable) {
+    positions_.assign(static_cast<std::size_t>(pw) * ph * 2, 0);
+    for (int y = 0; y < ph; ++y)
+      for (int e = 0; e < 2; ++e) {
+        const Span& s = spans_[static_cast<std::size_t>(y) * 2 + e];
+        for (int x = s.begin; x < s.end; ++x) {
+          double u = 0.0, v = 0.0;
+          warp_.source_unclamped(e, x - e * hw + 0.5, y + 0.5, 1, &u, &v);
+          const std::size_t i = (static_cast<std::size_t>(y) * pw + x) * 2;
+          positions_[i] = static_cast<int32_t>(std::floor((u + e * ew - 0.5) * 256.0));
+          positions_[i + 1] = static_cast<int32_t>(std::floor((v - 0.5) * 256.0));
+        }
+      }
+  }
   if (threads_ == 2) worker_ = std::thread([this] { worker_loop(); });
 }
 
 CpuPredistorter::~CpuPredistorter() {
   if (worker_.joinable()) {
     quit_.store(true);
-    job_.fetch_add(1);
+    job_.fetch_add(1, std::memory_order_release);
     job_.notify_one();
     worker_.join();
   }
@@ -178,11 +385,11 @@ CpuPredistorter::~CpuPredistorter() {
 void CpuPredistorter::worker_loop() {
   uint64_t seen = 0;
   for (;;) {
-    job_.wait(seen);
-    seen = job_.load();
+    // Frames come a display period apart: sleep on the atomic rather than spin between them.
+    seen = wait_change(job_, seen, false);
     if (quit_.load()) return;
-    band(worker_row_begin_, worker_row_end_);
-    done_.store(seen);
+    band(split_row_, warp_.panel_height());
+    done_.store(seen, std::memory_order_release);
     done_.notify_one();
   }
 }
@@ -193,12 +400,11 @@ bool CpuPredistorter::apply(const ImageRgba8& eyes, ImageRgba8& panel) {
   panel_ = &panel;
   const int h = warp_.panel_height();
   if (threads_ == 2 && h >= 2) {
-    worker_row_begin_ = h / 2;
-    worker_row_end_ = h;
-    const uint64_t my_job = job_.fetch_add(1) + 1;
+    const uint64_t my_job = job_.fetch_add(1, std::memory_order_release) + 1;
     job_.notify_one();
-    band(0, h / 2);
-    for (uint64_t d = done_.load(); d != my_job; d = done_.load()) done_.wait(d);
+    band(0, split_row_);
+    for (uint64_t d = done_.load(std::memory_order_acquire); d != my_job;)
+      d = wait_change(done_, d, true);
   } else {
     band(0, h);
   }
@@ -207,42 +413,128 @@ bool CpuPredistorter::apply(const ImageRgba8& eyes, ImageRgba8& panel) {
   return true;
 }
 
-void CpuPredistorter::band(int row_begin, int row_end) {
-  const int pw = warp_.panel_width(), ew = warp_.eye_width();
-  const int y_hi = warp_.eye_height() - 1;
+void CpuPredistorter::radial_span_scalar(int y, int e, int x, int end, uint32_t* out) const {
+  const RadialEye& r = radial_[e];
+  const int ew = warp_.eye_width(), half = e * warp_.eye_panel_width();
+  const int x_lo = e * ew, x_hi = e * ew + ew - 1, y_hi = warp_.eye_height() - 1;
   const uint8_t* base = eyes_->data.data();
   const int stride = eyes_->stride_bytes;
+  // The AVX2 kernel's arithmetic, operation for operation (std::fma rounds once, like vfmadd).
+  const float dy = static_cast<float>(y) + r.d0[1];
+  const float ry = dy * r.k[1];
+  const float ry2 = ry * ry;
+  for (; x < end; ++x) {
+    const float dx = static_cast<float>(x - half) + r.d0[0];
+    const float rx = dx * r.k[0];
+    const float rr = std::sqrt(std::fma(rx, rx, ry2));
+    float t = ratio_[ratio_terms_ - 1];
+    for (int i = ratio_terms_ - 2; i >= 0; --i) t = std::fma(t, rr, ratio_[i]);
+    const float ax = t * dx, ay = t * dy;
+    uint32_t px = 0xFF000000u;
+    for (int c = 0; c < 3; ++c) {
+      const int X = static_cast<int>(std::fma(ax, r.gain256[c][0], r.origin256[0]));
+      const int Y = static_cast<int>(std::fma(ay, r.gain256[c][1], r.origin256[1]));
+      px |= sample_fixed(base, stride, X, Y, c, x_lo, x_hi, y_hi) << (8 * c);
+    }
+    out[x] = px;
+  }
+}
+
+void CpuPredistorter::table_span_scalar(int y, int e, int x, int end, uint32_t* out) const {
+  const int ew = warp_.eye_width();
+  const int x_lo = e * ew, x_hi = e * ew + ew - 1, y_hi = warp_.eye_height() - 1;
+  const uint8_t* base = eyes_->data.data();
+  const int stride = eyes_->stride_bytes;
+  const int32_t* pos = positions_.data() + static_cast<std::size_t>(y) * warp_.panel_width() * 2;
+  const int CX = centre_fixed_[e][0], CY = centre_fixed_[e][1];
   const int64_t sr = scale_fixed_[0], sb = scale_fixed_[2];
+  for (; x < end; ++x) {
+    const int X = pos[2 * x], Y = pos[2 * x + 1];
+    const int64_t dX = X - CX, dY = Y - CY;
+    const int XR = CX + static_cast<int>((dX * sr) >> 16),
+              YR = CY + static_cast<int>((dY * sr) >> 16);
+    const int XB = CX + static_cast<int>((dX * sb) >> 16),
+              YB = CY + static_cast<int>((dY * sb) >> 16);
+    const uint32_t r = sample_fixed(base, stride, XR, YR, 0, x_lo, x_hi, y_hi);
+    const uint32_t g = sample_fixed(base, stride, X, Y, 1, x_lo, x_hi, y_hi);
+    const uint32_t b = sample_fixed(base, stride, XB, YB, 2, x_lo, x_hi, y_hi);
+    out[x] = r | (g << 8) | (b << 16) | 0xFF000000u;
+  }
+}
+
+void CpuPredistorter::band(int row_begin, int row_end) {
+  const int hw = warp_.eye_panel_width(), ew = warp_.eye_width();
   for (int y = row_begin; y < row_end; ++y) {
     uint32_t* out = reinterpret_cast<uint32_t*>(panel_->row(y));
-    const int32_t* pos = positions_.data() + static_cast<std::size_t>(y) * pw * 2;
     int x = 0;
     for (int e = 0; e < 2; ++e) {
       const Span s = spans_[static_cast<std::size_t>(y) * 2 + e];
-      const int x_lo = e * ew, x_hi = e * ew + ew - 1;
-      const int CX = centre_fixed_[e][0], CY = centre_fixed_[e][1];
       for (; x < s.begin; ++x) out[x] = 0xFF000000u;  // opaque black (RGBA bytes 0, 0, 0, 255)
+      if (method_ == Method::kRadial) {
 #if HD_LENS_AVX2
-      if (simd_)
-        x = span_avx2(base, stride, pos, out, x, s.end, CX, CY, scale_fixed_[0], scale_fixed_[2],
-                      x_lo, x_hi, y_hi);
+        if (simd_) {
+          const RadialEye& r = radial_[e];
+          const float dy = static_cast<float>(y) + r.d0[1];
+          const float ry = dy * r.k[1];
+          const RadialArgs a{eyes_->data.data(),
+                             eyes_->stride_bytes,
+                             ratio_,
+                             ratio_terms_,
+                             r.d0[0],
+                             r.k[0],
+                             dy,
+                             ry * ry,
+                             r.gain256,
+                             r.origin256,
+                             e * ew,
+                             e * ew + ew - 1,
+                             warp_.eye_height() - 1};
+          radial_span_avx2(a, out, x, s.end, e * hw);
+          x = s.end;
+        }
 #endif
-      for (; x < s.end; ++x) {
-        const int X = pos[2 * x], Y = pos[2 * x + 1];
-        const int64_t dX = X - CX, dY = Y - CY;
-        const int XR = CX + static_cast<int>((dX * sr) >> 16),
-                  YR = CY + static_cast<int>((dY * sr) >> 16);
-        const int XB = CX + static_cast<int>((dX * sb) >> 16),
-                  YB = CY + static_cast<int>((dY * sb) >> 16);
-        const uint32_t r = sample_fixed(base, stride, XR, YR, 0, x_lo, x_hi, y_hi);
-        const uint32_t g = sample_fixed(base, stride, X, Y, 1, x_lo, x_hi, y_hi);
-        const uint32_t b = sample_fixed(base, stride, XB, YB, 2, x_lo, x_hi, y_hi);
-        out[x] = r | (g << 8) | (b << 16) | 0xFF000000u;
+        radial_span_scalar(y, e, x, s.end, out);
+      } else {
+#if HD_LENS_AVX2
+        if (simd_) {
+          const int32_t* pos =
+              positions_.data() + static_cast<std::size_t>(y) * warp_.panel_width() * 2;
+          x = span_avx2(eyes_->data.data(), eyes_->stride_bytes, pos, out, x, s.end,
+                        centre_fixed_[e][0], centre_fixed_[e][1], scale_fixed_[0], scale_fixed_[2],
+                        e * ew, e * ew + ew - 1, warp_.eye_height() - 1);
+        }
+#endif
+        table_span_scalar(y, e, x, s.end, out);
       }
-      const int half_end = (e + 1) * warp_.eye_panel_width();
-      for (; x < half_end; ++x) out[x] = 0xFF000000u;
+      x = std::max(x, s.end);
+      for (; x < (e + 1) * hw; ++x) out[x] = 0xFF000000u;
     }
   }
+}
+
+void CpuPredistorter::sample_point(int e, int x, int y, int c, double* u, double* v) const {
+  const int ew = warp_.eye_width();
+  if (method_ == Method::kRadial) {
+    const RadialEye& r = radial_[e];
+    const float dy = static_cast<float>(y) + r.d0[1];
+    const float ry = dy * r.k[1];
+    const float dx = static_cast<float>(x) + r.d0[0];
+    const float rx = dx * r.k[0];
+    const float rr = std::sqrt(std::fma(rx, rx, ry * ry));
+    float t = ratio_[ratio_terms_ - 1];
+    for (int i = ratio_terms_ - 2; i >= 0; --i) t = std::fma(t, rr, ratio_[i]);
+    *u = std::fma(t * dx, r.gain256[c][0], r.origin256[0]) / 256.0 + 0.5 - e * ew;
+    *v = std::fma(t * dy, r.gain256[c][1], r.origin256[1]) / 256.0 + 0.5;
+    return;
+  }
+  const std::size_t i =
+      (static_cast<std::size_t>(y) * warp_.panel_width() + e * warp_.eye_panel_width() + x) * 2;
+  const int64_t dX = positions_[i] - centre_fixed_[e][0],
+                dY = positions_[i + 1] - centre_fixed_[e][1];
+  const int X = centre_fixed_[e][0] + static_cast<int>((dX * scale_fixed_[c]) >> 16);
+  const int Y = centre_fixed_[e][1] + static_cast<int>((dY * scale_fixed_[c]) >> 16);
+  *u = X / 256.0 + 0.5 - e * ew;
+  *v = Y / 256.0 + 0.5;
 }
 
 bool CpuPredistorter::apply_exact(const ImageRgba8& eyes, ImageRgba8& panel) const {

@@ -14,19 +14,33 @@ namespace hd::render::lens {
 /// Fills the HMD panel's picture from the eyes' picture (the StereoRig layout: two eye images of
 /// warp.eye_width() x warp.eye_height() side by side). Each panel pixel takes R, G and B from
 /// the eye image at the points LensWarp::source gives for its centre, sampled bilinearly with
-/// 8-bit fixed-point weights (the CPU compositor's sampler; clamped to the pixel's own eye
-/// image); alpha is 255, and pixels beyond the usable lens radius are opaque black.
+/// 8-bit fixed-point weights on a 1/256 px grid (the CPU compositor's sampler; clamped to the
+/// pixel's own eye image); alpha is 255, and pixels beyond the usable lens radius are opaque
+/// black. Per row and eye the span of usable pixels is found once in the constructor.
 ///
-/// The lookup table is built once in the constructor: per panel pixel the green sample's position
-/// in 1/256 px (two int32), and per row and eye the span of usable pixels. R and B need no
-/// entries of their own: in the lens model their offsets from the eye's principal point are the
-/// green one scaled by aberration[c] / aberration[G], exactly (done in 16.16 fixed point). apply()
-/// allocates nothing; with threads = 2 the rows are split into two bands, one done by a persistent
-/// worker woken through an atomic.
+/// Two ways to find the sample points (Method), each with a scalar and an AVX2 row kernel that
+/// give the same bytes:
+///  - kRadial (default): evaluated per pixel in single precision from the lens radius
+///    (LensWarp::panel_map: a square root and the ratio polynomial by Horner, then one
+///    multiply-add per channel and axis), so no per-pixel table is read; the AVX2 kernel fetches
+///    each pair of horizontally adjacent texels with one 64-bit gather lane and weighs them with
+///    pmaddwd. Compute, not memory, bounds this pass (the profile in docs/hmd.md).
+///  - kPositionTable (the first version, kept for the benchmark): a table of the green sample's
+///    position in 1/256 px (two int32 per panel pixel, 7.7 MB for 1600x600); R and B are the green
+///    offset from the eye's principal point scaled by aberration[c] / aberration[G] in 16.16
+///    fixed point.
+///
+/// apply() allocates nothing; with threads = 2 the rows are split into two bands of equal work
+/// (usable pixels), one done by a persistent worker woken through an atomic; the caller spins
+/// briefly for the worker's band before it sleeps on the atomic.
 class CpuPredistorter {
  public:
-  /// `simd`: use the AVX2 row kernel when the CPU has it (the same bytes as the scalar one).
-  CpuPredistorter(const LensWarp& warp, int threads = 1, bool simd = true);
+  enum class Method { kRadial, kPositionTable };
+
+  /// `simd`: use the AVX2 row kernel when the CPU has AVX2 and FMA (the same bytes as the scalar
+  /// one).
+  CpuPredistorter(const LensWarp& warp, int threads = 1, bool simd = true,
+                  Method method = Method::kRadial);
   ~CpuPredistorter();
   CpuPredistorter(const CpuPredistorter&) = delete;
   CpuPredistorter& operator=(const CpuPredistorter&) = delete;
@@ -36,22 +50,51 @@ class CpuPredistorter {
   bool apply(const ImageRgba8& eyes, ImageRgba8& panel);
 
   /// The same picture with every sample point evaluated from the lens polynomial per pixel and
-  /// channel (double precision), no table: the reference the benchmark times the table against.
+  /// channel (double precision): the reference the benchmark and the tests compare against.
   bool apply_exact(const ImageRgba8& eyes, ImageRgba8& panel) const;
 
+  /// Where apply() samples channel c for the usable panel pixel (x, y) of eye e's half, in eye
+  /// e's own image coordinates, before the sampler's 1/256 px grid: for the benchmark's
+  /// geometric error against LensWarp::source.
+  void sample_point(int eye, int x, int y, int channel, double* u, double* v) const;
+
   const LensWarp& warp() const { return warp_; }
+  Method method() const { return method_; }
+  /// The first row of the worker's band (threads = 2), chosen for equal numbers of usable pixels.
+  int split_row() const { return split_row_; }
 
  private:
   struct Span {
     int begin = 0, end = 0;  ///< usable panel columns [begin, end) of one eye in one row
   };
+  /// kRadial's constants of one eye, single precision (the kernels' arithmetic):
+  /// d = float(column in the half) + d0, r = sqrt(fma(d.x k.x, d.x k.x, (d.y k.y)^2)),
+  /// t = ratio(r), and channel c's fixed-point point is trunc(fma(t d, gain256[c], origin256)).
+  struct RadialEye {
+    float d0[2] = {};          ///< 0.5 - lens centre (panel px)
+    float k[2] = {};           ///< r units per panel px
+    float gain256[3][2] = {};  ///< 256 * LensWarp::PanelMap::gain
+    float origin256[2] = {};   ///< 256 * (principal point + eye offset - 0.5)
+  };
+  static constexpr int kMaxRatioTerms = 11;  ///< HmdProfile allows 12 coefficients
+
   void band(int row_begin, int row_end);
+  void radial_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
+  void table_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
   void worker_loop();
 
   LensWarp warp_;
-  /// Per panel pixel: the green sample in the eyes' picture, 256 * (u - 0.5, v - 0.5).
+  Method method_ = Method::kRadial;
+  std::vector<Span> spans_;  ///< [row * 2 + eye]
+  int split_row_ = 0;
+
+  RadialEye radial_[2];
+  float ratio_[kMaxRatioTerms] = {};  ///< ratio(r) = sum ratio_[i] r^i (coefficients[i + 1])
+  int ratio_terms_ = 0;
+
+  /// kPositionTable: per panel pixel the green sample in the eyes' picture, 256 * (u - 0.5, v -
+  /// 0.5); empty for kRadial.
   std::vector<int32_t> positions_;
-  std::vector<Span> spans_;                         ///< [row * 2 + eye]
   int32_t scale_fixed_[3] = {65536, 65536, 65536};  ///< channel_scale * 2^16
   int32_t centre_fixed_[2][2] = {};                 ///< principal points, as positions_
 
@@ -61,10 +104,10 @@ class CpuPredistorter {
   bool simd_ = false;
   int threads_ = 1;
   std::thread worker_;
-  std::atomic<uint64_t> job_{0};
-  std::atomic<uint64_t> done_{0};
-  std::atomic<bool> quit_{false};
-  int worker_row_begin_ = 0, worker_row_end_ = 0;
+  // Each on its own cache line: the caller writes job_ while the worker writes done_.
+  alignas(64) std::atomic<uint64_t> job_{0};
+  alignas(64) std::atomic<uint64_t> done_{0};
+  alignas(64) std::atomic<bool> quit_{false};
 };
 
 }  // namespace hd::render::lens

@@ -176,8 +176,8 @@ HmdProfile read(const YAML::Node& root, const std::string& file) {
       p.coefficients = d.numbers("coefficients", 2, 12);
     } else if (model == "mesh") {
       d.fail_at(model_node, d.key("model"),
-                "'mesh' (a distortion mesh from a file) is reserved for lenses no polynomial "
-                "describes and not implemented yet; use openhmd or polynomial");
+                "mesh: distortion model 'mesh' (a distortion mesh from a file) is reserved for "
+                "a future version; this version supports 'openhmd' and 'polynomial'");
     } else {
       d.fail_at(model_node, d.key("model"),
                 "unknown model '" + model + "'; expected openhmd or polynomial");

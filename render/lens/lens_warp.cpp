@@ -118,6 +118,18 @@ Viewport LensWarp::visible_rect(int eye) const {
   return {x_begin, y_begin, std::max(1, x_end - x_begin), std::max(1, y_end - y_begin)};
 }
 
+LensWarp::PanelMap LensWarp::panel_map(int eye) const {
+  const Eigen::Vector2d& lc = profile_.lens_centre_m[static_cast<std::size_t>(eye)];
+  PanelMap m;
+  m.centre_px = {lc.x() / profile_.pitch_x_m(), lc.y() / profile_.pitch_y_m()};
+  m.r_per_px = {profile_.pitch_x_m() / profile_.r_unit_m.x(),
+                profile_.pitch_y_m() / profile_.r_unit_m.y()};
+  for (std::size_t c = 0; c < 3; ++c)
+    m.gain[c] = {profile_.aberration[c] * profile_.pitch_x_m() / eye_pitch_x_,
+                 profile_.aberration[c] * profile_.pitch_y_m() / eye_pitch_y_};
+  return m;
+}
+
 double LensWarp::radius(int eye, double x, double y) const {
   const Eigen::Vector2d& lc = profile_.lens_centre_m[static_cast<std::size_t>(eye)];
   const double qx = x * profile_.pitch_x_m() - lc.x();

@@ -57,6 +57,17 @@ class LensWarp {
   /// The largest lens radius any panel pixel of either half has (before max_radius).
   double panel_max_radius() const { return panel_max_r_; }
 
+  /// source_unclamped() in panel pixels, for evaluating it in bulk (CpuPredistorter): for the
+  /// half point (x, y) of eye i, with d = (x, y) - centre_px, the radius is
+  /// r = |(d.x * r_per_px.x, d.y * r_per_px.y)| and channel c samples the eye image at
+  /// (cx, cy) + ratio(r) * (gain[c].x * d.x, gain[c].y * d.y), ratio(r) = P(r) / r.
+  struct PanelMap {
+    Eigen::Vector2d centre_px{0.0, 0.0};    ///< lens centre, half coordinates
+    Eigen::Vector2d r_per_px{0.0, 0.0};     ///< r units per panel pixel
+    std::array<Eigen::Vector2d, 3> gain{};  ///< eye-image px per panel px per unit ratio
+  };
+  PanelMap panel_map(int eye) const;
+
  private:
   HmdProfile profile_;
   RadialPolynomial poly_;

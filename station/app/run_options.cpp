@@ -1,5 +1,7 @@
 #include "station/app/run_options.h"
 
+#include "drivers/rtp/rtp_uri.h"
+#include "sim/scene_epoch.h"
 #include "station/app/station_config.h"
 
 namespace hd::station {
@@ -58,6 +60,29 @@ void add_run_options(CLI::App& cmd, RunOptions& o) {
                  "none")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 86400.0));
+  cmd.add_option("--cameras-from", o.cameras_from,
+                 "Scene runs: take the scene's cameras from the network, camera i from "
+                 "rtp://HOST:(PORT + 2 i), as `hybrid-remote --scene` sends them (head, model and "
+                 "reconstruction stay simulated here; scripts/demo.sh)")
+      ->excludes(config)
+      ->check([](const std::string& v) {
+        std::string why;
+        return drivers::parse_rtp_uri(v, why) ? std::string() : why;
+      });
+  cmd.add_option("--scene-epoch", o.scene_epoch,
+                 "Scene runs: scene t = 0 as a CLOCK_REALTIME instant, seconds since 1970 (give "
+                 "hybrid-remote the same); a scene run then ends at t = the scene's duration")
+      ->excludes(config)
+      ->check([](const std::string& v) {
+        std::string why;
+        return sim::parse_scene_epoch(v, why) ? std::string() : why;
+      });
+  cmd.add_option("--camera-wait", o.camera_wait_s,
+                 "With --cameras-from: seconds the run waits for every network camera's first "
+                 "frame before its first frame (a camera still silent then is not usable until "
+                 "it streams)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 3600.0));
   cmd.add_option("--warmup", o.warmup, "Frames before render-thread allocations are counted");
   cmd.add_option("--max-log-rows", o.max_log_rows,
                  "frames.csv keeps the first N frames (storage reserved up front)")

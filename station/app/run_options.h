@@ -33,6 +33,12 @@ struct RunOptions {
   uint64_t warmup = 30;
   double progress_s = 10.0;              ///< a progress line every this many seconds; 0 = none
   std::size_t max_log_rows = 1'000'000;  ///< frames.csv keeps the first this many frames
+  /// --cameras-from rtp://HOST:PORT (scene runs): the scene's camera i is the network camera
+  /// rtp://HOST:(PORT + 2 i), sent by `hybrid-remote --scene` (the two-process demo), instead of
+  /// being simulated here; head, model and reconstruction stay as the scene sets them.
+  std::string cameras_from;
+  std::string scene_epoch;    ///< --scene-epoch: scene t = 0 on CLOCK_REALTIME (sim/scene_epoch.h)
+  double camera_wait_s = 10;  ///< --camera-wait: how long the loop waits for network cameras
 };
 
 /// Adds the options above to the `run` subcommand.

@@ -74,6 +74,13 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                "  head samples accepted %" PRIu64 ", rejected %" PRIu64 "; re-centres %" PRIu64
                ", tracker resets %" PRIu64 "; model updates %" PRIu64 "\n",
                s.pose_accepted, s.pose_rejected, s.recentres, s.tracker_resets, s.model_updates);
+  if (s.reconstructions + s.reconstructions_refused > 0)
+    std::fprintf(out, "  stereo reconstructions %" PRIu64 ", refused %" PRIu64 "\n",
+                 s.reconstructions, s.reconstructions_refused);
+  if (!s.cameras_from.empty())
+    std::fprintf(out, "  cameras from the network: %s (camera i on PORT + 2 i)%s%s\n",
+                 s.cameras_from.c_str(), s.scene_epoch.empty() ? "" : "; scene epoch ",
+                 s.scene_epoch.c_str());
   std::fprintf(out, "  render-thread allocations after %" PRIu64 " warm-up frames: %" PRIu64 "\n",
                s.warmup_frames, s.allocations_after_warmup);
   std::fprintf(out,
@@ -159,6 +166,12 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                {"recentres", s.recentres},
                {"tracker_resets", s.tracker_resets}};
   j["model_updates"] = s.model_updates;
+  j["reconstructions"] = s.reconstructions;
+  j["reconstructions_refused"] = s.reconstructions_refused;
+  // Where the cameras came from and the scene clock (the two-process demo: docs/network.md).
+  j["cameras_from"] = s.cameras_from.empty() ? nlohmann::json() : nlohmann::json(s.cameras_from);
+  j["scene_epoch"] = s.scene_epoch.empty() ? nlohmann::json() : nlohmann::json(s.scene_epoch);
+  j["first_frame_scene_s"] = s.first_frame_scene_s;
   j["allocations_after_warmup"] = s.allocations_after_warmup;
   j["warmup_frames"] = s.warmup_frames;
   j["frames_csv_rows"] = s.log_rows;

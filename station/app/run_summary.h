@@ -38,6 +38,9 @@ struct RunSummary {
     std::string last_error;
   };
   std::vector<NetworkCamera> network_cameras;
+  std::string cameras_from;  ///< --cameras-from ("": the scene's cameras simulated in-process)
+  std::string scene_epoch;   ///< --scene-epoch as given ("": scene t = 0 at this run's start)
+  double first_frame_scene_s = 0.0;  ///< scene time of the first frame (with a scene epoch)
   /// Per camera: the stretches in which its video was withheld (too old, source not streaming).
   std::vector<std::vector<UnusableInterval>> camera_unusable;
   /// Frames in which some camera's video was withheld for its age or its source's state.
@@ -45,6 +48,9 @@ struct RunSummary {
   uint64_t pose_accepted = 0, pose_rejected = 0;
   uint64_t recentres = 0, tracker_resets = 0;
   uint64_t model_updates = 0;
+  /// Stereo pairs reconstructed into the model / refused (a camera without a frame, frames not
+  /// of one exposure, not newer).
+  uint64_t reconstructions = 0, reconstructions_refused = 0;
   uint64_t allocations_after_warmup = 0;
   uint64_t warmup_frames = 0;
   uint64_t log_rows = 0, log_rows_dropped = 0;

@@ -1,8 +1,14 @@
 // assemble_from_scene: the simulated station (scene file -> Simulation -> mock devices).
 #include <algorithm>
 #include <cstdio>
+#include <optional>
+#include <stdexcept>
 
 #include "core/video_age.h"
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/rtp_camera.h"
+#include "drivers/rtp/rtp_uri.h"
+#include "sim/scene_epoch.h"
 #include "station/app/station_parts.h"
 
 namespace hd::station {
@@ -45,6 +51,23 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
 
   p->simulation = std::make_unique<sim::Simulation>(std::move(scene));
   sim::Simulation& sim = *p->simulation;
+  if (!o.scene_epoch.empty()) {
+    std::string why;
+    const auto epoch_realtime = sim::parse_scene_epoch(o.scene_epoch, why);
+    if (!epoch_realtime) throw std::invalid_argument("--scene-epoch: " + why);
+    p->scene_epoch_ns = sim::realtime_to_monotonic_ns(*epoch_realtime);
+    p->scene_epoch_text = o.scene_epoch;
+    sim.set_epoch_ns(p->scene_epoch_ns);  // before any device starts: the head waits for it
+  }
+  // --cameras-from: camera i arrives as rtp://HOST:(PORT + 2 i) (hybrid-remote --scene).
+  std::optional<drivers::RtpAddress> net;
+  if (!o.cameras_from.empty()) {
+    std::string why;
+    net = drivers::parse_rtp_uri(o.cameras_from, why);
+    if (!net) throw std::invalid_argument("--cameras-from: " + why);
+    p->cameras_from = o.cameras_from;
+    p->camera_wait_s = o.camera_wait_s;
+  }
   const auto& staleness = sim.model_staleness();
   // What the scene's own effects add to every frame's age: a real site knows its link's delay.
   double known_delay_s = 0.0;
@@ -69,22 +92,47 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
     // one frame per period a camera's newest could be a period older, and paint a moving
     // object's colours where the reconstruction has nothing).
     if (!stereo.empty()) pc.model_period_s = 0.0;
-    auto pipe = std::make_unique<station::CameraPipeline>(*sim_cams[i].source, pc);
-    const std::string id = sim_cams[i].source->id();
+    std::unique_ptr<drivers::CameraSource> device;
+    std::string id = sim_cams[i].source->id();
+    std::string how =
+        fmt("simulated %gx%g RGBA8 at %g Hz, ", pc.p_c.width, pc.p_c.height, sc.rate_hz);
+    double link_delay_s = 0.0;
+    if (net) {
+      drivers::RtpReceiveConfig rc;
+      rc.listen = *net;
+      rc.listen.port = static_cast<uint16_t>(net->port + 2 * i);
+      // What the link adds to a frame's age at most in the normal case: the jitter buffer and
+      // one frame time each for encoding and decoding.
+      link_delay_s = 1e-3 * rc.jitter_buffer_latency_ms + 2.0 / sc.rate_hz;
+      device = std::make_unique<drivers::RtpCamera>(std::move(rc));
+      id = "net:" + sc.name;
+    }
+    auto pipe =
+        std::make_unique<station::CameraPipeline>(device ? *device : *sim_cams[i].source, pc);
     try {
-      pipe->open();
+      if (device) {
+        // The scene's calibration fixes the size; a stream learns its size at its first frame,
+        // and a frame of another size is never shown (drivers/rtp/rtp_camera.h).
+        const drivers::FormatNegotiation got =
+            pipe->negotiate({pc.p_c.width, pc.p_c.height, {}, 0.0});
+        how = "network camera " + device->id() + ", " + got.detail + ", " +
+              fmt("%gx%g at %g Hz from hybrid-remote --scene, ", pc.p_c.width, pc.p_c.height,
+                  sc.rate_hz);
+      } else {
+        pipe->open();
+      }
     } catch (const std::exception& e) {
       p->report.missing("camera", id, e.what(), false);
       continue;
     }
     const Eigen::Vector3d& c = sim_cams[i].T_world_real.t;
-    const double max_age_s = sc.max_video_age_ms > 0.0
-                                 ? 1e-3 * sc.max_video_age_ms
-                                 : core::default_max_video_age_s(sc.rate_hz, known_delay_s);
+    const double max_age_s =
+        sc.max_video_age_ms > 0.0
+            ? 1e-3 * sc.max_video_age_ms
+            : core::default_max_video_age_s(sc.rate_hz, known_delay_s + link_delay_s);
     p->report.opened(
         "camera", id,
-        fmt("simulated %gx%g RGBA8 at %g Hz, ", pc.p_c.width, pc.p_c.height, sc.rate_hz) +
-            fmt("centre (%.2f, %.2f, %.2f) m, d = %g m", c.x(), c.y(), c.z(), sim_cams[i].d_m) +
+        how + fmt("centre (%.2f, %.2f, %.2f) m, d = %g m", c.x(), c.y(), c.z(), sim_cams[i].d_m) +
             (pipe->undistorting() ? ", undistorted by the pipeline" : "") +
             (sc.calibration_file.empty() ? "" : ", calibration " + sc.calibration_file) +
             fmt(", live while under %.0f ms old", 1e3 * max_age_s));
@@ -95,6 +143,12 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
     p->camera_names.push_back(id);
     opened_names.push_back(sc.name);
     p->pipelines.push_back(std::move(pipe));
+    if (device) {
+      p->awaited_cameras.push_back(p->cameras.size() - 1);
+      p->devices.push_back(std::move(device));
+    } else {
+      p->devices.push_back(nullptr);  // inside the simulation; keeps devices[i] = cameras[i]
+    }
   }
 
   // Head: the scene's tracker frame is the workspace; re-centre brings the head back to where
@@ -176,6 +230,16 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
   p->report.note("scene", p->source_file + " (" + scene_name + ", " + fmt("%g s", duration_s) +
                               (looped ? ", motion looped" : "") + ")");
   p->report.note("effects", join(effects));
+  if (net)
+    p->report.note("cameras", "from the network: camera i on " + net->host + ":" +
+                                  std::to_string(net->port) +
+                                  " + 2 i (hybrid-remote --scene renders and sends them; their "
+                                  "effects are applied there); p_c and P_c from the scene file");
+  if (p->scene_epoch_ns != 0)
+    p->report.note("scene time", "t = 0 at --scene-epoch " + o.scene_epoch + " (CLOCK_REALTIME), " +
+                                     fmt("%+.3f s from now",
+                                         1e-9 * static_cast<double>(p->scene_epoch_ns -
+                                                                    drivers::monotonic_now_ns())));
   configure_frame(*p, display, transition, marking, workspace, "kalman", o);
   return p;
 }

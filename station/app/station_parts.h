@@ -48,6 +48,14 @@ struct StationParts {
   std::string predictor = "kalman";
   int monitor = -1;              ///< fullscreen monitor for a windowed GL run, -1 = a window
   double default_seconds = 0.0;  ///< run length when neither --frames nor --seconds is given
+  /// Scene t = 0 on CLOCK_MONOTONIC when fixed from outside (--scene-epoch), else 0: the run
+  /// then waits for it and, without --frames/--seconds, ends at t = default_seconds.
+  int64_t scene_epoch_ns = 0;
+  std::string scene_epoch_text;  ///< as given
+  std::string cameras_from;      ///< --cameras-from as given ("" simulated here)
+  /// Cameras the loop waits for before its first frame (the network's), and for how long.
+  std::vector<std::size_t> awaited_cameras;
+  double camera_wait_s = 0.0;
 
   StationParts() = default;
   StationParts(const StationParts&) = delete;

@@ -72,9 +72,11 @@ std::unique_ptr<station::PosePredictor> make_predictor(const std::string& name) 
 
 // The first frames would otherwise show the tracker origin (the predictor has nothing yet), not
 // the operator's head. Cameras are not waited for: a frame without video is honestly synthetic.
-void wait_for_first_head_sample(drivers::PoseSource& head, render::LoopClock& clock) {
+// With a scene epoch ahead (--scene-epoch) the head's first sample comes at scene t = 0.
+void wait_for_first_head_sample(drivers::PoseSource& head, render::LoopClock& clock,
+                                int64_t scene_epoch_ns) {
   constexpr int64_t kPatience_ns = 2'000'000'000;
-  const int64_t start = clock.now_ns();
+  const int64_t start = std::max(clock.now_ns(), scene_epoch_ns);
   while (head.latest().published() == 0 && !g_interrupted.load()) {
     if (clock.now_ns() - start > kPatience_ns) {
       std::printf("  note: no head sample from %s after 2 s: frames start at the tracker origin\n",
@@ -84,6 +86,39 @@ void wait_for_first_head_sample(drivers::PoseSource& head, render::LoopClock& cl
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+}
+
+// Network cameras (--cameras-from) are waited for, up to `patience_s`, before the first frame:
+// each one's first frame is reported with its time, and one still silent then is reported as not
+// usable (its m is +inf until it streams). Nothing is shown meanwhile, so no frame of the run is
+// synthetic only because the remote site was still starting.
+void wait_for_network_cameras(const StationParts& p, render::LoopClock& clock) {
+  if (p.awaited_cameras.empty()) return;
+  const int64_t start = clock.now_ns();
+  const auto deadline = start + static_cast<int64_t>(p.camera_wait_s * 1e9);
+  std::printf("  waiting up to %.0f s for the first frames of %zu network camera(s)\n",
+              p.camera_wait_s, p.awaited_cameras.size());
+  std::fflush(stdout);
+  std::vector<bool> seen(p.awaited_cameras.size(), false);
+  std::size_t left = seen.size();
+  while (left > 0 && !g_interrupted.load()) {
+    for (std::size_t k = 0; k < p.awaited_cameras.size(); ++k) {
+      const std::size_t i = p.awaited_cameras[k];
+      if (seen[k] || p.cameras[i].source->state() != drivers::SourceState::kStreaming) continue;
+      seen[k] = true;
+      --left;
+      std::printf("  camera %s: first frame %.2f s after the wait began\n",
+                  p.camera_names[i].c_str(), 1e-9 * static_cast<double>(clock.now_ns() - start));
+      std::fflush(stdout);
+    }
+    if (left == 0 || clock.now_ns() >= deadline) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  for (std::size_t k = 0; k < seen.size(); ++k)
+    if (!seen[k])
+      std::printf("  camera %s: no frame after %.0f s: not usable until it streams\n",
+                  p.camera_names[p.awaited_cameras[k]].c_str(), p.camera_wait_s);
+  std::fflush(stdout);
 }
 
 std::unique_ptr<StationParts> assemble(const RunOptions& o) {
@@ -128,6 +163,9 @@ int run(const RunOptions& o) {
 
   // Run length, and everything sized by it.
   const double seconds = o.frames ? 0.0 : (o.seconds > 0.0 ? o.seconds : p.default_seconds);
+  // With a fixed scene epoch a run of the scene's length ends at scene t = its duration,
+  // however long the start (the wait for the remote site's cameras) took.
+  const bool until_scene_end = p.scene_epoch_ns != 0 && !o.frames && o.seconds <= 0.0;
   const double expected_frames =
       o.frames ? static_cast<double>(o.frames)
                : (seconds > 0.0 ? seconds * p.rate_hz * 1.05 + 16.0 : 3600.0 * p.rate_hz);
@@ -169,6 +207,8 @@ int run(const RunOptions& o) {
   if (gl) std::printf("  display          %s\n", gl->window().description().c_str());
   if (o.frames)
     std::printf("  run              %" PRIu64 " frames\n", o.frames);
+  else if (until_scene_end)
+    std::printf("  run              until scene t = %.1f s\n", seconds);
   else if (seconds > 0.0)
     std::printf("  run              %.1f s\n", seconds);
   else
@@ -204,8 +244,16 @@ int run(const RunOptions& o) {
 
   core::reset_counted_allocations();
   p.start();
-  wait_for_first_head_sample(*p.head, clock);
+  wait_for_first_head_sample(*p.head, clock, p.scene_epoch_ns);
+  wait_for_network_cameras(p, clock);
   const int64_t start_ns = clock.now_ns();
+  const int64_t end_ns = until_scene_end ? p.scene_epoch_ns + static_cast<int64_t>(seconds * 1e9)
+                                         : start_ns + static_cast<int64_t>(seconds * 1e9);
+  if (p.scene_epoch_ns != 0) {
+    std::printf("  first frame at scene t = %.3f s\n",
+                1e-9 * static_cast<double>(start_ns - p.scene_epoch_ns));
+    std::fflush(stdout);
+  }
   int64_t next_hud_ns = start_ns;
   std::string hud;
   RunProgress progress(o.progress_s, stdout, start_ns);
@@ -217,9 +265,7 @@ int run(const RunOptions& o) {
   for (const auto& pipe : p.pipelines) event_sources.push_back(pipe.get());
   for (;;) {
     if (o.frames && loop.frames() >= o.frames) break;
-    if (!o.frames && seconds > 0.0 &&
-        clock.now_ns() - start_ns >= static_cast<int64_t>(seconds * 1e9))
-      break;
+    if (!o.frames && seconds > 0.0 && clock.now_ns() >= end_ns) break;
     if (g_interrupted.load()) break;
     loop.tick(work);
     // Between frames, outside the counted tick: progress, the HUD text (OpenCV may allocate), the
@@ -300,6 +346,10 @@ int run(const RunOptions& o) {
     n.last_error = st.last_error;
     s.network_cameras.push_back(n);
   }
+  s.cameras_from = p.cameras_from;
+  s.scene_epoch = p.scene_epoch_text;
+  if (p.scene_epoch_ns != 0)
+    s.first_frame_scene_s = 1e-9 * static_cast<double>(start_ns - p.scene_epoch_ns);
   s.camera_unusable = usability.intervals();
   s.frames_stale_blocked = frame.frames_stale_blocked();
   s.pose_accepted = frame.pose_history().accepted();
@@ -307,6 +357,8 @@ int run(const RunOptions& o) {
   s.recentres = p.head->recentres();
   s.tracker_resets = p.head->tracker_resets();
   s.model_updates = p.updater ? p.updater->stats().updates : 0;
+  s.reconstructions = p.updater ? p.updater->stats().reconstructions : 0;
+  s.reconstructions_refused = p.updater ? p.updater->stats().reconstructions_refused : 0;
   s.allocations_after_warmup = allocations;
   s.warmup_frames = o.warmup;
   s.log_rows = log.size();

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <iterator>
 #include <random>
 #include <vector>
 
@@ -56,6 +58,30 @@ TEST(RtpFrameStamp, ReadsBothElements) {
   EXPECT_EQ(s.camera->calibration_revision, 0x01020304u);
 }
 
+TEST(RtpFrameStamp, ReadsTheSenderStages) {
+  const uint64_t ntp = unix_ns_to_ntp64(1'000'000'000'123'456'789LL);
+  std::vector<uint8_t> e{uint8_t((kNtp64ExtensionId << 4) | 7)};
+  for (int i = 7; i >= 0; --i) e.push_back(uint8_t(ntp >> (8 * i)));
+  uint8_t stages[kSenderStagesSize];
+  write_sender_stages({4'321, 0x01020304, 7, 250}, std::span<uint8_t, kSenderStagesSize>(stages));
+  // By hand: version 1, count 7, then big endian 4321 = 0x10E1, 0x01020304, 250 = 0xFA.
+  const uint8_t expected[] = {1, 7, 0, 0, 0x10, 0xE1, 1, 2, 3, 4, 0, 0, 0, 0xFA};
+  EXPECT_TRUE(std::equal(std::begin(stages), std::end(stages), std::begin(expected)));
+  e.push_back(uint8_t((kSenderStagesExtensionId << 4) | 13));
+  for (uint8_t b : stages) e.push_back(b);
+  const auto p = packet_with(e);
+  RtpPacketView v;
+  ASSERT_EQ(parse_rtp_packet(p, v), RtpPacketError::kNone);
+  RtpFrameStamp s;
+  ASSERT_EQ(read_frame_stamp(v, s), StampError::kNone);
+  ASSERT_TRUE(s.stages);
+  EXPECT_EQ(s.stages->encoded_us, 4'321u);
+  EXPECT_EQ(s.stages->sent_us, 0x01020304u);
+  EXPECT_EQ(s.stages->round_trip_count, 7);
+  EXPECT_EQ(s.stages->round_trip_us, 250u);
+  EXPECT_FALSE(s.camera);
+}
+
 TEST(RtpFrameStamp, RefusesBadValuesByName) {
   RtpPacketView v;
   RtpFrameStamp s;
@@ -69,6 +95,8 @@ TEST(RtpFrameStamp, RefusesBadValuesByName) {
   EXPECT_EQ(read({0x17, 0, 0, 0, 0, 0, 0, 0, 0}), StampError::kZeroNtp);
   EXPECT_EQ(read({0x22, 1, 2, 3}), StampError::kBadStateSize);
   EXPECT_EQ(read({0x25, 9, 0, 0, 0, 0, 1}), StampError::kBadStateVersion);
+  EXPECT_EQ(read({0x42, 1, 0, 0}), StampError::kBadStagesSize);
+  EXPECT_EQ(read({0x4D, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}), StampError::kBadStagesVersion);
 }
 
 }  // namespace

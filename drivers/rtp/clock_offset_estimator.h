@@ -1,0 +1,78 @@
+#pragma once
+// The offset between a sender's clock and this station's CLOCK_MONOTONIC, measured from RTCP
+// sender reports and the round trip (NTP-style), with its uncertainty; a pure value type.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+namespace hd::drivers {
+
+/// The mapping of a sender's capture time (its CLOCK_REALTIME, Unix ns) onto this host's
+/// CLOCK_MONOTONIC: `station_mono_ns = sender_unix_ns + offset_ns`, true to within
+/// ±uncertainty_ns.
+struct ClockMapping {
+  enum class Kind : uint8_t {
+    /// Not measured yet (no sender report, or no round trip): this host's own
+    /// CLOCK_REALTIME - CLOCK_MONOTONIC, exact only when both programs run on one host.
+    kUnmeasured,
+    /// From RTCP sender reports and the sender's round trip (ClockOffsetEstimator).
+    kMeasured,
+    /// The sites declared synchronised clocks (chrony/PTP): this host's CLOCK_REALTIME, with
+    /// their stated error as the uncertainty.
+    kSynchronized,
+  };
+  Kind kind = Kind::kUnmeasured;
+  int64_t offset_ns = 0;
+  int64_t uncertainty_ns = -1;  ///< -1: unknown
+  uint64_t samples = 0;         ///< sender reports and round trips taken into the estimate
+  int64_t round_trip_ns = -1;   ///< the smallest round trip in the window (-1 none)
+};
+const char* to_string(ClockMapping::Kind k);
+
+/// NTP's clock filter on RTCP: each sender report gives `arrival - sent = offset + d`, with d the
+/// one-way delay, 0 <= d <= the round trip. Over the newest kWindow reports the one with the
+/// smallest `arrival - sent` has the least queueing; with the smallest round trip R of the
+/// window the offset is `min(arrival - sent) - R / 2`, within ±R / 2 (whatever way the delay
+/// splits), plus the clocks' drift since that report (drift_ppm of its age; crystals drift
+/// 10-50 ppm, 100 by default). A report whose arrival is older than the newest one already
+/// taken is refused (counted).
+class ClockOffsetEstimator {
+ public:
+  static constexpr std::size_t kWindow = 8;
+
+  explicit ClockOffsetEstimator(double drift_ppm = 100.0) : drift_ppm_(drift_ppm) {}
+
+  /// A sender report: its NTP time (sender's clock, Unix ns) and its arrival here (mono ns).
+  void add_sender_report(int64_t sender_unix_ns, int64_t arrival_mono_ns);
+  /// A round trip the sender measured from this station's receiver reports (RFC 3550 A.8).
+  void add_round_trip(int64_t round_trip_ns);
+
+  /// The estimate at `now_mono_ns` (for the drift allowance); kUnmeasured until there is at
+  /// least one sender report and one round trip.
+  ClockMapping mapping(int64_t now_mono_ns) const;
+  uint64_t refused() const { return refused_; }
+
+ private:
+  struct Report {
+    int64_t difference_ns = 0;  // arrival - sent
+    int64_t arrival_mono_ns = 0;
+  };
+  double drift_ppm_;
+  std::array<Report, kWindow> reports_{};
+  std::array<int64_t, kWindow> round_trips_{};
+  std::size_t report_count_ = 0, report_next_ = 0;
+  std::size_t round_trip_count_ = 0, round_trip_next_ = 0;
+  uint64_t samples_ = 0, refused_ = 0;
+  int64_t newest_arrival_ns_ = 0;
+};
+
+/// RFC 3550 A.8: the round trip from a receiver report block, in ns: `arrival - LSR - DLSR`,
+/// all in the compact NTP format (the middle 32 bits: 1/65536 s), `arrival_compact` on the
+/// clock whose sender reports the block refers to. -1 when the block has no LSR (no sender
+/// report reached the receiver yet) or the result is negative (a clock step).
+int64_t round_trip_from_report_block(uint32_t arrival_compact, uint32_t lsr, uint32_t dlsr);
+/// The compact NTP form (middle 32 bits) of a Unix time.
+uint32_t compact_ntp(int64_t unix_ns);
+
+}  // namespace hd::drivers
