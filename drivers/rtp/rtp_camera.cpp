@@ -15,6 +15,7 @@
 #include "drivers/rtp/gstreamer_init.h"
 #include "drivers/rtp/rtp_aux_bin.h"
 #include "drivers/rtp/rtp_receive_pipeline.h"
+#include "drivers/rtp/view_feedback.h"
 
 namespace hd::drivers {
 namespace {
@@ -175,6 +176,25 @@ void RtpCamera::build() {
   pad = gst_element_get_static_pad(depay, "sink");
   gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::depay_probe_cb, this, nullptr);
   gst_object_unref(pad);
+  pad = gst_element_get_static_pad(depay, "src");  // access units: key frames are not delta units
+  gst_pad_add_probe(
+      pad, GST_PAD_PROBE_TYPE_BUFFER,
+      [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+        auto* me = static_cast<RtpCamera*>(self);
+        GstBuffer* b = GST_PAD_PROBE_INFO_BUFFER(info);
+        if (GST_BUFFER_FLAG_IS_SET(b, GST_BUFFER_FLAG_DELTA_UNIT)) return GST_PAD_PROBE_OK;
+        int64_t capture = 0;
+        {
+          std::lock_guard lock(me->stamp_mutex_);
+          for (const StampSlot& slot : me->stamps_)
+            if (slot.pts == GST_BUFFER_PTS(b)) capture = slot.capture_mono_ns;
+        }
+        me->last_key_capture_ns_.store(capture, std::memory_order_relaxed);
+        me->key_frames_.fetch_add(1, std::memory_order_release);
+        return GST_PAD_PROBE_OK;
+      },
+      this, nullptr);
+  gst_object_unref(pad);
   gst_object_unref(depay);
 
   // RTCP feedback (receiver reports, NACK, PLI) goes back to where the sender's RTCP comes from.
@@ -271,6 +291,7 @@ void RtpCamera::bus_loop() {
       restart_at_ns = monotonic_now_ns() + 500'000'000;
       continue;
     }
+    send_view_feedback();
     const SourceState s = state_.load(std::memory_order_acquire);
     if (s == SourceState::kStreaming &&
         monotonic_now_ns() - last_frame_ns_.load(std::memory_order_relaxed) >
@@ -314,6 +335,10 @@ GstPadProbeReturn RtpCamera::rtcp_probe_cb(GstPad*, GstPadProbeInfo* info, gpoin
     g_signal_emit_by_name(sink, "add", host, port);
     gst_object_unref(sink);
     me->feedback_targets_.fetch_add(1, std::memory_order_relaxed);
+    std::lock_guard lock(me->view_mutex_);
+    me->view_host_ = host;
+    me->view_port_ = port;
+    me->view_sent_ns_ = 0;  // a new sender hears the station's view at once
   }
   g_free(host);
   return GST_PAD_PROBE_OK;
@@ -501,6 +526,7 @@ void RtpCamera::on_sample(GstElement* sink) {
 RtpCamera::Feedback RtpCamera::feedback() const {
   Feedback f;
   f.key_frame_requests = key_frame_requests_.load(std::memory_order_relaxed);
+  f.view_feedback_sent = view_sent_.load(std::memory_order_relaxed);
   if (pipeline_ == nullptr) return f;
   if (GstElement* rtx = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtxReceive)) {
     guint requests = 0, packets = 0;
@@ -542,6 +568,38 @@ RtpCamera::Feedback RtpCamera::feedback() const {
   return f;
 }
 
+void RtpCamera::set_view_needed(bool needed) {
+  view_need_.store(needed ? 1 : 0, std::memory_order_relaxed);
+}
+
+// Bus thread: the pipeline (and its RTCP socket) is stable here.
+void RtpCamera::send_view_feedback() {
+  const int need = view_need_.load(std::memory_order_relaxed);
+  std::lock_guard lock(view_mutex_);
+  const int64_t now = monotonic_now_ns();
+  // A change goes out at once (this thread's next turn, <= 100 ms), the same state every 0.5 s
+  // (the sender falls back to full rate after 2 s without any).
+  if (need < 0 || view_port_ == 0 || pipeline_ == nullptr ||
+      (need == view_sent_need_ && view_sent_ns_ != 0 && now - view_sent_ns_ < 500'000'000))
+    return;
+  GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtcpSource);
+  GSocket* socket = nullptr;
+  g_object_get(src, "used-socket", &socket, nullptr);
+  gst_object_unref(src);
+  if (socket == nullptr) return;
+  GSocketAddress* to = g_inet_socket_address_new_from_string(view_host_.c_str(), view_port_);
+  uint8_t packet[kViewFeedbackSize];
+  write_view_feedback({0, need == 1, ++view_sequence_},
+                      std::span<uint8_t, kViewFeedbackSize>(packet));
+  if (to != nullptr && g_socket_send_to(socket, to, reinterpret_cast<const gchar*>(packet),
+                                        sizeof packet, nullptr, nullptr) == gssize(sizeof packet))
+    view_sent_.fetch_add(1, std::memory_order_relaxed);
+  view_sent_ns_ = now;
+  view_sent_need_ = need;
+  if (to != nullptr) g_object_unref(to);
+  g_object_unref(socket);
+}
+
 bool RtpCamera::request_key_frame() {
   if (pipeline_ == nullptr) return false;
   GstElement* depay = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kDepayloader);
@@ -580,6 +638,8 @@ RtpCameraStats RtpCamera::stats() const {
   s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
   s.bus_errors = bus_errors_.load(std::memory_order_relaxed);
   s.restarts = restarts_.load(std::memory_order_relaxed);
+  s.key_frames = key_frames_.load(std::memory_order_acquire);
+  s.last_key_frame_capture_ns = last_key_capture_ns_.load(std::memory_order_relaxed);
   s.stamped_frames = stamped_.load(std::memory_order_relaxed);
   s.unstamped_frames = unstamped_.load(std::memory_order_relaxed);
   s.capture_after_arrival = capture_after_arrival_.load(std::memory_order_relaxed);

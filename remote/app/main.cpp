@@ -62,6 +62,11 @@ int main(int argc, char** argv) {
   app.add_flag("--no-rtx", no_rtx,
                "answer no NACKs (no RTX, RFC 4588): a lost packet is then repaired only by the "
                "next key frame");
+  bool full_rate = false;
+  app.add_flag("--full-rate", full_rate,
+               "ignore the station's view feedback and send every camera at full rate (by "
+               "default a camera the station says it cannot use soon is sent at 1/6 of its rate "
+               "until it is needed, then resumes with a key frame)");
   std::string key_file;
   app.add_option("--key-file", key_file,
                  "pre-shared SRTP key (56 hex digits: AES-128-GCM key + salt), readable by its "
@@ -122,6 +127,7 @@ int main(int argc, char** argv) {
     c.calibration_revision = 1;  // the scene's calibration is fixed for the run
     c.srtp_key = key;
     c.retransmission = !no_rtx;
+    c.follow_view = !full_rate;
     auto s = std::make_unique<hd::remote::RtpSender>(c);
     try {
       s->start();
@@ -175,11 +181,22 @@ int main(int argc, char** argv) {
   sim->stop();
   for (std::size_t i = 0; i < senders.size(); ++i) {
     const hd::remote::RtpSenderStats st = senders[i]->stats();
-    std::printf("  camera %zu: %llu frames sent, %llu refused, %llu stamped, %llu packets\n", i,
-                static_cast<unsigned long long>(st.frames_pushed),
-                static_cast<unsigned long long>(st.frames_refused),
-                static_cast<unsigned long long>(st.frames_stamped),
-                static_cast<unsigned long long>(st.packets_stamped));
+    uint64_t malformed = 0;
+    for (uint64_t m : st.view_feedback_malformed) malformed += m;
+    std::printf(
+        "  camera %zu: %llu frames taken, %llu refused, %llu stamped, %llu packets; RTX %llu "
+        "requested, %llu sent; view feedback %llu received (%llu malformed, ignored), %llu frames "
+        "not sent while not needed, %llu key frames forced on becoming needed\n",
+        i, static_cast<unsigned long long>(st.frames_pushed),
+        static_cast<unsigned long long>(st.frames_refused),
+        static_cast<unsigned long long>(st.frames_stamped),
+        static_cast<unsigned long long>(st.packets_stamped),
+        static_cast<unsigned long long>(st.rtx_requests),
+        static_cast<unsigned long long>(st.rtx_packets_sent),
+        static_cast<unsigned long long>(st.view_feedback_received),
+        static_cast<unsigned long long>(malformed),
+        static_cast<unsigned long long>(st.frames_skipped_not_needed),
+        static_cast<unsigned long long>(st.key_frames_forced));
     senders[i]->stop();
   }
   return 0;

@@ -3,8 +3,10 @@
 #include <gio/gio.h>
 #include <gst/app/gstappsrc.h>
 #include <gst/rtp/rtp.h>
+#include <gst/video/video.h>
 #include <time.h>
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -78,8 +80,22 @@ void RtpSender::start() {
       g_object_get(in, "used-socket", &socket, nullptr);
       if (socket != nullptr) {
         g_object_set(out, "socket", socket, "close-socket", FALSE, nullptr);
+        if (GSocketAddress* local = g_socket_get_local_address(socket, nullptr)) {
+          rtcp_port_ = g_inet_socket_address_get_port(G_INET_SOCKET_ADDRESS(local));
+          g_object_unref(local);
+        }
         g_object_unref(socket);
       }
+      // The station's view feedback arrives here beside its RTCP: read and taken out before
+      // rtpbin (a lone APP packet is no valid compound RTCP for it).
+      GstPad* in_src = gst_element_get_static_pad(in, "src");
+      gst_pad_add_probe(
+          in_src, GST_PAD_PROBE_TYPE_BUFFER,
+          [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+            return static_cast<RtpSender*>(self)->on_rtcp_in(GST_PAD_PROBE_INFO_BUFFER(info));
+          },
+          this, nullptr);
+      gst_object_unref(in_src);
       gst_object_unref(in);
       gst_object_unref(out);
     }
@@ -154,6 +170,24 @@ bool RtpSender::push(const drivers::Frame& f) {
     refused_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
+  const bool needed = needed_now(drivers::monotonic_now_ns());
+  needed_reported_.store(needed, std::memory_order_relaxed);
+  if (needed && !was_needed_) {
+    // Needed again: this frame becomes a key frame, so the station decodes at once instead of
+    // waiting for the periodic one (key_int_frames frames, which at the low rate is divider
+    // times longer).
+    GstElement* enc = by_name(pipeline_, send_elements::kEncoder);
+    gst_element_send_event(
+        enc, gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 0));
+    gst_object_unref(enc);
+    forced_.fetch_add(1, std::memory_order_relaxed);
+  }
+  if (!needed && was_needed_) push_index_ = 0;  // the first low-rate frame goes at once
+  was_needed_ = needed;
+  if (!needed && push_index_++ % uint64_t(std::max(1, config_.low_rate_divider)) != 0) {
+    skipped_.fetch_add(1, std::memory_order_relaxed);
+    return true;  // taken, not sent: the station does not need every frame of this camera
+  }
   const std::size_t row = std::size_t(f.width) * 4;
   GstBuffer* b = gst_buffer_new_allocate(nullptr, row * f.height, nullptr);
   GstMapInfo map;
@@ -220,12 +254,54 @@ GstPadProbeReturn RtpSender::on_packets(GstPadProbeInfo* info) {
   return GST_PAD_PROBE_OK;
 }
 
+bool RtpSender::needed_now(int64_t now_ns) const {
+  if (!config_.follow_view) return true;
+  const int64_t last = last_feedback_ns_.load(std::memory_order_acquire);
+  if (last == 0 || now_ns - last > static_cast<int64_t>(config_.view_feedback_timeout_s * 1e9))
+    return true;  // no station that says otherwise: full rate
+  return station_needs_.load(std::memory_order_relaxed);
+}
+
+GstPadProbeReturn RtpSender::on_rtcp_in(GstBuffer* buffer) {
+  GstMapInfo map;
+  if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_OK;
+  drivers::ViewFeedback f;
+  const drivers::ViewFeedbackError e =
+      drivers::parse_view_feedback(std::span<const uint8_t>(map.data, map.size), f);
+  gst_buffer_unmap(buffer, &map);
+  if (e == drivers::ViewFeedbackError::kNotViewFeedback) return GST_PAD_PROBE_OK;  // RTCP
+  if (e != drivers::ViewFeedbackError::kNone) {
+    feedback_malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
+    return GST_PAD_PROBE_DROP;
+  }
+  // A message older than the last one (reordered on the way) says nothing new.
+  // After a silence (a restarted station counts from 0 again) any message is taken.
+  const int64_t now = drivers::monotonic_now_ns();
+  const int last = last_sequence_.load(std::memory_order_relaxed);
+  const int64_t heard = last_feedback_ns_.load(std::memory_order_relaxed);
+  const bool silence =
+      heard == 0 || now - heard > static_cast<int64_t>(config_.view_feedback_timeout_s * 1e9);
+  if (!silence && last >= 0 && static_cast<int16_t>(f.sequence - static_cast<uint16_t>(last)) <= 0)
+    return GST_PAD_PROBE_DROP;
+  last_sequence_.store(f.sequence, std::memory_order_relaxed);
+  station_needs_.store(f.needed, std::memory_order_relaxed);
+  last_feedback_ns_.store(now, std::memory_order_release);
+  feedback_received_.fetch_add(1, std::memory_order_relaxed);
+  return GST_PAD_PROBE_DROP;
+}
+
 RtpSenderStats RtpSender::stats() const {
   RtpSenderStats s{pushed_.load(), refused_.load(), packets_stamped_.load(),
                    frames_stamped_.load()};
   s.frames_encoded = frames_encoded_.load();
   s.key_frames = key_frames_.load();
   s.last_key_frame_index = last_key_frame_index_.load();
+  s.view_feedback_received = feedback_received_.load();
+  for (std::size_t i = 0; i < s.view_feedback_malformed.size(); ++i)
+    s.view_feedback_malformed[i] = feedback_malformed_[i].load();
+  s.frames_skipped_not_needed = skipped_.load();
+  s.key_frames_forced = forced_.load();
+  s.needed = needed_reported_.load();
   if (rtxsend_ != nullptr) {
     guint requests = 0, packets = 0;
     g_object_get(rtxsend_, "num-rtx-requests", &requests, "num-rtx-packets", &packets, nullptr);

@@ -3,11 +3,13 @@
 
 #include <gst/gst.h>
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <string>
 
 #include "drivers/frame.h"
+#include "drivers/rtp/view_feedback.h"
 #include "remote/sender/rtp_send_config.h"
 
 namespace hd::remote {
@@ -23,6 +25,14 @@ struct RtpSenderStats {
   /// RTX: NACKed packets asked for (rtprtxsend's retransmission events) / sent again.
   uint64_t rtx_requests = 0;
   uint64_t rtx_packets_sent = 0;
+  /// Bandwidth follows the view: valid station messages, malformed ones (by reason, counted and
+  /// ignored), frames not sent while not needed, key frames forced on becoming needed again.
+  uint64_t view_feedback_received = 0;
+  std::array<uint64_t, static_cast<std::size_t>(drivers::ViewFeedbackError::kCount)>
+      view_feedback_malformed{};
+  uint64_t frames_skipped_not_needed = 0;
+  uint64_t key_frames_forced = 0;
+  bool needed = true;  ///< as of the last push()
 };
 
 /// Builds send_pipeline_description(), adds GStreamer's rtphdrextntp64 (id 1, every packet) to
@@ -47,11 +57,16 @@ class RtpSender {
   RtpSenderStats stats() const;
   const RtpSendConfig& config() const { return config_; }
   std::string description() const;
+  /// The local UDP port RTCP leaves from and the station's feedback (RTCP, view feedback) comes
+  /// to; 0 before start().
+  uint16_t rtcp_port() const { return rtcp_port_; }
 
  private:
   GstPadProbeReturn on_encoded(GstPadProbeInfo* info);
   GstPadProbeReturn on_packets(GstPadProbeInfo* info);
   bool stamp_packet(GstBuffer* buffer);
+  GstPadProbeReturn on_rtcp_in(GstBuffer* buffer);
+  bool needed_now(int64_t now_ns) const;
 
   RtpSendConfig config_;
   GstElement* pipeline_ = nullptr;
@@ -61,6 +76,19 @@ class RtpSender {
   bool playing_ = false;
   std::atomic<uint64_t> pushed_{0}, refused_{0}, packets_stamped_{0}, frames_stamped_{0};
   std::atomic<uint64_t> frames_encoded_{0}, key_frames_{0}, last_key_frame_index_{0};
+  uint16_t rtcp_port_ = 0;
+  // View feedback: written by the RTCP source's streaming thread, read by push().
+  std::atomic<bool> station_needs_{true};
+  std::atomic<int64_t> last_feedback_ns_{0};  // 0: none yet (full rate)
+  std::atomic<int> last_sequence_{-1};
+  std::atomic<uint64_t> feedback_received_{0};
+  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(drivers::ViewFeedbackError::kCount)>
+      feedback_malformed_{};
+  // push()'s thread only.
+  bool was_needed_ = true;
+  uint64_t push_index_ = 0;
+  std::atomic<uint64_t> skipped_{0}, forced_{0};
+  std::atomic<bool> needed_reported_{true};
 };
 
 }  // namespace hd::remote
