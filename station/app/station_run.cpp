@@ -269,6 +269,11 @@ int run(const RunOptions& o) {
   station::CameraNeedParams need_params;
   need_params.m_t = p.frame_config.transition.m_t;
   station::CameraNeedPolicy need(p.cameras.size(), need_params);
+  if (p.updater)  // the pairs it reconstructs from need frames of one exposure from both
+    for (const station::ModelStereoPair& pair : p.updater->config().stereo_pairs) {
+      if (pair.left < p.cameras.size()) need.keep(pair.left);
+      if (pair.right < p.cameras.size()) need.keep(pair.right);
+    }
   std::vector<drivers::RtpCamera*> network(p.cameras.size(), nullptr);
   std::vector<uint64_t> need_changes(p.cameras.size(), 0);
   for (std::size_t i = 0; i < p.devices.size() && i < network.size(); ++i)

@@ -6,7 +6,7 @@
 namespace hd::station {
 
 CameraNeedPolicy::CameraNeedPolicy(std::size_t cameras, CameraNeedParams params)
-    : params_(params), last_wanted_ns_(cameras, 0), needed_(cameras, 1) {}
+    : params_(params), last_wanted_ns_(cameras, 0), needed_(cameras, 1), kept_(cameras, 0) {}
 
 void CameraNeedPolicy::update(std::span<const double> m, int chosen, int64_t now_ns) {
   if (!started_) {  // every camera counts as wanted just now: the hold starts at the first frame
@@ -23,7 +23,7 @@ void CameraNeedPolicy::update(std::span<const double> m, int chosen, int64_t now
   const int64_t hold_ns = static_cast<int64_t>(params_.hold_s * 1e9);
   for (std::size_t i = 0; i < needed_.size(); ++i) {
     const double mi = i < m.size() ? m[i] : std::numeric_limits<double>::quiet_NaN();
-    const bool wanted = int(i) == chosen || int(i) == runner_up ||
+    const bool wanted = kept_[i] != 0 || int(i) == chosen || int(i) == runner_up ||
                         (std::isfinite(mi) && mi < params_.m_t + params_.margin);
     if (wanted) last_wanted_ns_[i] = now_ns;
     const uint8_t need = now_ns - last_wanted_ns_[i] < hold_ns || wanted ? 1 : 0;

@@ -27,6 +27,9 @@ class CameraNeedPolicy {
  public:
   CameraNeedPolicy(std::size_t cameras, CameraNeedParams params);
   void update(std::span<const double> m, int chosen, int64_t now_ns);
+  /// Camera i is needed whatever the view: e.g. a stereo pair the model updater reconstructs
+  /// from, which needs frames of one exposure from both cameras.
+  void keep(std::size_t i) { kept_[i] = 1; }
   bool needed(std::size_t i) const { return needed_[i] != 0; }
   std::size_t size() const { return needed_.size(); }
   /// Changes of any camera's need since construction (flaps show here).
@@ -36,6 +39,7 @@ class CameraNeedPolicy {
   CameraNeedParams params_;
   std::vector<int64_t> last_wanted_ns_;
   std::vector<uint8_t> needed_;
+  std::vector<uint8_t> kept_;
   bool started_ = false;
   uint64_t changes_ = 0;
 };

@@ -68,5 +68,13 @@ TEST(CameraNeed, AnUnusableCameraIsNotWantedByTheThresholdButTheChosenOneAlways)
   EXPECT_FALSE(p.needed(0));  // +inf: no runner-up, no threshold, no hold (0 s)
 }
 
+TEST(CameraNeed, AKeptCameraIsAlwaysNeeded) {
+  CameraNeedPolicy p(3, {40.0, 20.0, 0.0});
+  p.keep(2);
+  p.update(std::vector<double>{10.0, 20.0, 900.0}, 0, 0);
+  p.update(std::vector<double>{10.0, 20.0, 900.0}, 0, 5000 * kMs);
+  EXPECT_TRUE(p.needed(2));
+}
+
 }  // namespace
 }  // namespace hd::station
