@@ -38,9 +38,14 @@ CalibrationFile read_calibration_file(const std::filesystem::path& path);
 /// Process CPU seconds of each step of `intrinsics` (printed; the default run must cost no more
 /// than OpenCV's calibration sample, bench/calib/calib_cpu_bench).
 struct IntrinsicsCpu {
-  double detection_s = 0;         ///< detection + cornerSubPix (what the sample does too)
-  double larger_check_s = 0;      ///< the larger-board check, part of detection_s
-  double calibration_s = 0;       ///< calibrateCamera; σ is a by-product of the same call
+  double startup_s = 0;           ///< before the images: loader, initialisers, options
+  double detection_s = 0;         ///< images + detection + cornerSubPix, larger check included
+  double larger_check_s = 0;      ///< the larger-board check, part of detection_s:
+  double larger_probe_s = 0;      ///<   the probe beyond the edges, every view
+  double larger_confirm_s = 0;    ///<   SB's confirmation, views where the checker goes on
+  int larger_confirmations = 0;   ///<   how many views needed it
+  double calibration_s = 0;       ///< calibrateCamera + per-view residuals
+  double sigma_s = 0;             ///< the parameters' σ (intrinsics_std_dev)
   double cross_validation_s = 0;  ///< the two half-set calibrations
   double coverage_s = 0;          ///< coverage and warnings
 };

@@ -1,5 +1,7 @@
 #include "calib/corner_detector.h"
 
+#include "calib/larger_board_probe.h"
+
 #include <time.h>
 
 #include <algorithm>
@@ -65,7 +67,9 @@ Detection run_detection(const cv::Mat& gray, const Board& board, const DetectorO
   }
   if (found && static_cast<int>(d.corners.size()) != board.corner_count()) found = false;
   const double cpu_found = thread_cpu_s();
-  if (found && opt.check_larger) {
+  // SB's larger-board search costs as much as a detection: only where the checker visibly goes
+  // on past an edge of the found pattern.
+  if (found && opt.check_larger && probe_beyond_edges(gray, board, d.corners).continues) {
     d.larger_corner_count = larger_board_corners(gray, board);
     d.larger_check_cpu_s = thread_cpu_s() - cpu_found;
     if (d.larger_corner_count > 0) {

@@ -18,7 +18,7 @@ struct DetectorOptions {
   Refinement refinement = Refinement::kSubPix11;
   bool use_classic = true;      ///< findChessboardCorners first
   bool use_sb_fallback = true;  ///< findChessboardCornersSB when the classic one fails
-  bool check_larger = true;     ///< reject a pattern that is part of a larger board
+  bool check_larger = true;  ///< reject a pattern that is part of a larger board (probe, then SB)
   std::chrono::milliseconds timeout{5000};
 };
 
@@ -42,8 +42,8 @@ struct Detection {
 
 /// The inner corners of the larger chessboard the COLSxROWS pattern is part of
 /// (findChessboardCornersSB with CALIB_CB_LARGER), 0 if it is not part of one. As costly as a
-/// detection, and fooled by steep views of a board with a white margin: a check on --board, run
-/// per session (intrinsics_command), not on every view.
+/// detection, and fooled by steep views of a board with a white margin: run only where
+/// probe_beyond_edges (calib/larger_board_probe.h) sees the checker go on past an edge.
 int larger_board_corners(const cv::Mat& gray, const Board& board);
 
 /// Runs detection in a worker thread; if the deadline passes, the worker is abandoned (it owns a

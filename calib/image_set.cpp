@@ -3,9 +3,9 @@
 #include <fnmatch.h>
 
 #include <algorithm>
-#include <cctype>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "calib/image_file.h"
 
 namespace hd::calib {
 
@@ -33,15 +33,10 @@ cv::Mat to_gray(const cv::Mat& image) {
 std::vector<NamedImage> load_image_set(const fs::path& dir, const std::string& name_pattern) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw InputError(dir.string() + ": not a folder");
-  static const std::vector<std::string> exts = {".jpg", ".jpeg", ".png", ".bmp",
-                                                ".tif", ".tiff", ".pgm", ".ppm"};
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     if (!e.is_regular_file()) continue;
-    std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (std::find(exts.begin(), exts.end(), ext) != exts.end() &&
+    if (is_image_file_name(e.path()) &&
         ::fnmatch(name_pattern.c_str(), e.path().filename().c_str(), 0) == 0)
       files.push_back(e.path());
   }
@@ -52,14 +47,7 @@ std::vector<NamedImage> load_image_set(const fs::path& dir, const std::string& n
   std::sort(files.begin(), files.end());
   std::vector<NamedImage> out;
   for (const auto& f : files) {
-    cv::Mat img;
-    try {
-      img = cv::imread(f.string(), cv::IMREAD_UNCHANGED);
-    } catch (const cv::Exception&) {
-      img.release();
-    }
-    cv::Mat g = img.empty() ? cv::Mat() : to_gray(img);
-    if (g.empty()) throw InputError(f.string() + ": unreadable or not an 8-bit image");
+    const cv::Mat g = read_gray_image(f);  // throws InputError naming the file
     if (!out.empty() && g.size() != out.front().gray.size())
       throw InputError(
           f.string() + ": image is " + std::to_string(g.cols) + "x" + std::to_string(g.rows) +

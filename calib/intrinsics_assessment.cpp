@@ -2,6 +2,8 @@
 
 #include <time.h>
 
+#include "calib/intrinsics_uncertainty.h"
+
 namespace hd::calib {
 
 double process_cpu_s() {
@@ -17,7 +19,9 @@ IntrinsicsReport assess_intrinsics(const std::vector<View>& views, const Board& 
   rep.board = board;
   rep.model_name = model.name();
   const double t0 = process_cpu_s();
-  rep.result = calibrate_intrinsics(views, board, image_size, model);
+  rep.result = calibrate_intrinsics(views, board, image_size, model, nullptr, false);
+  const double ts = process_cpu_s();
+  rep.result.std_dev_intrinsics = intrinsics_std_dev(views, board, rep.result);
   const double t1 = process_cpu_s();
   if (with_cross_validation)
     rep.cross_validation = cross_validate(views, board, image_size, model, &rep.result);
@@ -25,7 +29,8 @@ IntrinsicsReport assess_intrinsics(const std::vector<View>& views, const Board& 
   rep.coverage = coverage(views, rep.result);
   rep.warnings = quality_warnings(rep.result, rep.coverage, rep.cross_validation);
   const double t3 = process_cpu_s();
-  rep.cpu.calibration_s = t1 - t0;
+  rep.cpu.calibration_s = ts - t0;
+  rep.cpu.sigma_s = t1 - ts;
   rep.cpu.cross_validation_s = t2 - t1;
   rep.cpu.coverage_s = t3 - t2;
   return rep;

@@ -1,5 +1,7 @@
 #include "calib/intrinsics_calibration.h"
 
+#include "calib/intrinsics_uncertainty.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -27,7 +29,7 @@ std::vector<bool> outlier_views(const std::vector<double>& rms) {
 
 IntrinsicsResult calibrate_intrinsics(const std::vector<View>& views, const Board& board,
                                       cv::Size image_size, const DistortionModel& model,
-                                      const IntrinsicsResult* start) {
+                                      const IntrinsicsResult* start, bool with_sigma) {
   if (views.size() < 3)
     throw std::runtime_error("calibration needs at least 3 views with the board found, got " +
                              std::to_string(views.size()));
@@ -50,35 +52,34 @@ IntrinsicsResult calibrate_intrinsics(const std::vector<View>& views, const Boar
     flags |= cv::CALIB_USE_INTRINSIC_GUESS;
   }
   std::vector<cv::Mat> rvecs, tvecs;
-  cv::Mat std_extr, per_view;
-  r.rms_px = cv::calibrateCamera(  // the "Extended" overload with std devs and per-view errors
-
-      object_points, image_points, image_size, K, D, rvecs, tvecs, r.std_dev_intrinsics, std_extr,
-      per_view, flags,
+  // The plain overload: no sigma (calibrateCameraExtended inverts the whole (4 + N + 6 * views)
+  // normal matrix by SVD for it, ~5 ms here); intrinsics_std_dev gives the same figures cheaper.
+  cv::calibrateCamera(
+      object_points, image_points, image_size, K, D, rvecs, tvecs, flags,
       cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, DBL_EPSILON));
   r.camera_matrix = cv::Matx33d(K);
   const int n_dist = model.terms == DistortionModel::Terms::rational8 ? 8 : 5;
   r.distortion = D.reshape(1, 1).colRange(0, n_dist).clone();
-  r.std_dev_intrinsics = r.std_dev_intrinsics.reshape(1, 1).colRange(0, 4 + n_dist).clone();
-  // With a fixed aspect OpenCV estimates fy alone and reports sigma(fx) = 0; fx = fy then shares
-  // fy's uncertainty.
-  if (model.fix_aspect && r.std_dev_intrinsics.at<double>(0, 0) == 0.0)
-    r.std_dev_intrinsics.at<double>(0, 0) = r.std_dev_intrinsics.at<double>(0, 1);
 
+  // Residuals at the solution, in double (the RMS calibrateCameraExtended returns).
+  std::vector<cv::Point3d> obj_d;
+  for (const auto& p : obj) obj_d.emplace_back(p.x, p.y, p.z);
+  double total2 = 0;
   std::vector<double> rms;
   for (std::size_t i = 0; i < views.size(); ++i) {
     ViewResult vr;
     vr.name = views[i].name;
     vr.rvec = cv::Vec3d(rvecs[i]);
     vr.tvec = cv::Vec3d(tvecs[i]);
-    std::vector<cv::Point2f> proj;
-    cv::projectPoints(obj, rvecs[i], tvecs[i], K, D, proj);
+    std::vector<cv::Point2d> proj;
+    cv::projectPoints(obj_d, rvecs[i], tvecs[i], K, D, proj);
     double sum = 0;
     for (std::size_t j = 0; j < proj.size(); ++j) {
-      const cv::Point2f e = views[i].corners[j] - proj[j];
-      vr.residuals_px.push_back(e);
+      const cv::Point2d e = cv::Point2d(views[i].corners[j]) - proj[j];
+      vr.residuals_px.emplace_back(e);
       sum += e.dot(e);
     }
+    total2 += sum;
     vr.rms_px = std::sqrt(sum / static_cast<double>(proj.size()));
     rms.push_back(vr.rms_px);
     r.views.push_back(std::move(vr));
@@ -86,6 +87,8 @@ IntrinsicsResult calibrate_intrinsics(const std::vector<View>& views, const Boar
   const std::vector<bool> out = outlier_views(rms);
   for (std::size_t i = 0; i < r.views.size(); ++i) r.views[i].outlier = out[i];
   r.worst_view = static_cast<int>(std::max_element(rms.begin(), rms.end()) - rms.begin());
+  r.rms_px = std::sqrt(total2 / static_cast<double>(obj.size() * views.size()));
+  if (with_sigma) r.std_dev_intrinsics = intrinsics_std_dev(views, board, r);
   return r;
 }
 

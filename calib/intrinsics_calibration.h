@@ -1,5 +1,5 @@
 #pragma once
-// calibrateCameraExtended over the views where a board was found, with the figures that say how
+// calibrateCamera over the views where a board was found, with the figures that say how
 // far to trust the result.
 
 #include <opencv2/core.hpp>
@@ -53,9 +53,11 @@ std::vector<bool> outlier_views(const std::vector<double>& rms_px);
 /// Calibrates; needs >= 3 views (throws std::runtime_error otherwise). Outlier views: per-view RMS
 /// above 2x the median or above mean + 3 sigma of the per-view RMS (relative), and more than
 /// kOutlierFloorPx above the median (absolute). `start`, if given, is the initial guess
-/// (CALIB_USE_INTRINSIC_GUESS) instead of OpenCV's own initialisation.
+/// (CALIB_USE_INTRINSIC_GUESS) instead of OpenCV's own initialisation. `with_sigma` false leaves
+/// std_dev_intrinsics empty (intrinsics_std_dev computes it, for timing it on its own).
 IntrinsicsResult calibrate_intrinsics(const std::vector<View>& views, const Board& board,
                                       cv::Size image_size, const DistortionModel& model,
-                                      const IntrinsicsResult* start = nullptr);
+                                      const IntrinsicsResult* start = nullptr,
+                                      bool with_sigma = true);
 
 }  // namespace hd::calib

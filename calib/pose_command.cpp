@@ -5,13 +5,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "calib/atomic_file.h"
 #include "calib/board_pose.h"
 #include "calib/calibration_file.h"
 #include "calib/commands.h"
+#include "calib/image_file.h"
 #include "calib/image_set.h"
 
 namespace hd::calib {
@@ -117,10 +117,11 @@ int run(const Args& a) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kBadInput;
   }
-  const cv::Mat img = cv::imread(a.image, cv::IMREAD_UNCHANGED);
-  const cv::Mat gray = img.empty() ? cv::Mat() : to_gray(img);
-  if (gray.empty()) {
-    std::fprintf(stderr, "error: %s: unreadable or not an 8-bit image\n", a.image.c_str());
+  cv::Mat gray;
+  try {
+    gray = read_gray_image(a.image);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
     return kBadInput;
   }
   if (gray.cols != intr.pinhole.width || gray.rows != intr.pinhole.height) {

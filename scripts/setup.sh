@@ -13,7 +13,7 @@ packages=(
   # tests and benchmarks
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   # images, calibration, video
-  libopencv-dev libjpeg-dev libturbojpeg0-dev
+  libopencv-dev libjpeg-dev libturbojpeg0-dev libpng-dev libtiff-dev
   # display: GL 3.3 through libepoxy, GLFW windows, Mesa llvmpipe + Xvfb for headless runs
   libepoxy-dev libglfw3-dev libgl1-mesa-dri libegl-mesa0 libegl-dev xvfb xauth
   # devices: HID head trackers, USB enumeration/hotplug, GigE (Aravis 0.8 + fake camera), V4L2 headers

@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -116,15 +117,17 @@ int run_as_sample(const Options& o, const std::string& out) {
   return 0;
 }
 
-// Runs argv as a child with its output discarded; returns its user + system CPU seconds, or -1.
-double child_cpu_s(const std::vector<std::string>& args, int* exit_code) {
+// Runs argv as a child with its output (stdout and stderr) to `out_file`; returns its user +
+// system CPU seconds, or -1.
+double child_cpu_s(const std::vector<std::string>& args, const std::string& out_file,
+                   int* exit_code) {
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 1, out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
@@ -220,8 +223,8 @@ int main(int argc, char** argv) {
   std::printf("run  sample_cpu_s  hybrid_calib_cpu_s\n");
   for (int r = 0; r < o.runs; ++r) {
     int e1 = -1, e2 = -1;
-    const double a = child_cpu_s(sample, &e1);
-    const double b = child_cpu_s(ours, &e2);
+    const double a = child_cpu_s(sample, (tmp / "sample.txt").string(), &e1);
+    const double b = child_cpu_s(ours, (tmp / "ours.txt").string(), &e2);
     if (a < 0 || b < 0 || e1 != 0 || e2 != 0) {
       std::fprintf(stderr, "error: a child failed (sample exit %d, hybrid-calib exit %d)\n", e1,
                    e2);
@@ -231,6 +234,15 @@ int main(int argc, char** argv) {
     t_sample.push_back(a);
     t_ours.push_back(b);
     std::printf("%3d  %12.3f  %18.3f\n", r + 1, a, b);
+  }
+  // Where each program's CPU went in the last run, as each prints it (hybrid-calib: its core
+  // and each extra quality figure).
+  std::printf("last run, as the programs report it:\n");
+  for (const char* f : {"sample.txt", "ours.txt"}) {
+    std::ifstream in(tmp / f);
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("sample:", 0) == 0 || line.rfind("  cpu", 0) == 0)
+        std::printf("  %s\n", line.c_str());
   }
   fs::remove_all(tmp, ec);
   const double ms = median(t_sample), mo = median(t_ours);

@@ -63,6 +63,17 @@ Timing time_it(int runs, const std::function<void()>& fn) {
   return {wall[wall.size() / 2], wall.front(), cpu[cpu.size() / 2]};
 }
 
+// /proc/loadavg's line: the figures of a shared machine mean little without it.
+std::string load_average() {
+  std::FILE* f = std::fopen("/proc/loadavg", "r");
+  char line[128] = "?\n";
+  if (f) {
+    if (!std::fgets(line, sizeof line, f)) std::snprintf(line, sizeof line, "?\n");
+    std::fclose(f);
+  }
+  return line;
+}
+
 HmdProfile bench_profile() {
   HmdProfile p;
   p.name = "bench";
@@ -239,25 +250,30 @@ int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::max(3, std::atoi(argv[1])) : 21;
   const LensWarp warp(bench_profile());
   const ImageRgba8 eyes = eyes_pattern(warp);
+  std::printf("load average at the start: %s", load_average().c_str());
   std::printf(
       "hybrid-bench-lens: panel %dx%d (two 800x600 eye halves), eye images %dx%d, %d runs\n",
       warp.panel_width(), warp.panel_height(), warp.eye_width(), warp.eye_height(), runs);
 
   using Method = CpuPredistorter::Method;
-  ImageRgba8 exact, radial1, radial2, scalar1, table1, table2;
-  for (ImageRgba8* i : {&exact, &radial1, &radial2, &scalar1, &table1, &table2})
+  ImageRgba8 exact, radial1, radial2, avx2_1, avx2_2, scalar1, table1, table2;
+  for (ImageRgba8* i : {&exact, &radial1, &radial2, &avx2_1, &avx2_2, &scalar1, &table1, &table2})
     i->allocate(warp.panel_width(), warp.panel_height());
-  CpuPredistorter pd1(warp, 1), pd2(warp, 2), pd_scalar(warp, 1, false);
-  CpuPredistorter tb1(warp, 1, true, Method::kPositionTable),
-      tb2(warp, 2, true, Method::kPositionTable);
+  using Simd = CpuPredistorter::Simd;
+  CpuPredistorter pd1(warp, 1), pd2(warp, 2), pd_scalar(warp, 1, Simd::kNone);
+  CpuPredistorter av1(warp, 1, Simd::kAvx2), av2(warp, 2, Simd::kAvx2);
+  CpuPredistorter tb1(warp, 1, Simd::kBest, Method::kPositionTable),
+      tb2(warp, 2, Simd::kBest, Method::kPositionTable);
   const Maps maps = make_maps(warp);
 
   // Interleaved rounds, so that a burst of load elsewhere on the machine hits every variant.
   const int rounds = 3;
-  std::vector<Timing> tr1, tr2, ttb1, ttb2;
+  std::vector<Timing> tr1, tr2, ta1, ta2, ttb1, ttb2;
   for (int k = 0; k < rounds; ++k) {
     tr1.push_back(time_it(runs, [&] { pd1.apply(eyes, radial1); }));
     tr2.push_back(time_it(runs, [&] { pd2.apply(eyes, radial2); }));
+    ta1.push_back(time_it(runs, [&] { av1.apply(eyes, avx2_1); }));
+    ta2.push_back(time_it(runs, [&] { av2.apply(eyes, avx2_2); }));
     ttb1.push_back(time_it(runs, [&] { tb1.apply(eyes, table1); }));
     ttb2.push_back(time_it(runs, [&] { tb2.apply(eyes, table2); }));
   }
@@ -266,6 +282,7 @@ int main(int argc, char** argv) {
         v.begin(), v.end(), [](const Timing& a, const Timing& b) { return a.wall_ms < b.wall_ms; });
   };
   const Timing t1 = best(tr1), t2 = best(tr2), tt1 = best(ttb1), tt2 = best(ttb2);
+  const Timing ta_1 = best(ta1), ta_2 = best(ta2);
   const Timing t_scalar = time_it(runs, [&] { pd_scalar.apply(eyes, scalar1); });
   const Timing t_exact = time_it(std::max(3, runs / 4), [&] { pd1.apply_exact(eyes, exact); });
 
@@ -295,8 +312,19 @@ int main(int argc, char** argv) {
                 t.cpu_ms);
   };
   row("exact per-pixel polynomial, double, 1 thread (reference)", 0.0, 0.0, t_exact);
-  row("**points from the radius (AVX2), 1 thread**", radial_err, rms_levels(radial1, exact), t1);
-  row("**points from the radius (AVX2), 2 threads**", radial_err, rms_levels(radial2, exact), t2);
+  const char* kernel = pd1.simd() == Simd::kAvx512 ? "AVX-512"
+                       : pd1.simd() == Simd::kAvx2 ? "AVX2"
+                                                   : "scalar";
+  char name[128];
+  std::snprintf(name, sizeof name, "**points from the radius (%s), 1 thread**", kernel);
+  row(name, radial_err, rms_levels(radial1, exact), t1);
+  std::snprintf(name, sizeof name, "**points from the radius (%s), 2 threads**", kernel);
+  row(name, radial_err, rms_levels(radial2, exact), t2);
+  if (pd1.simd() == Simd::kAvx512) {
+    row("points from the radius, AVX2 rows, 1 thread", radial_err, rms_levels(avx2_1, exact), ta_1);
+    row("points from the radius, AVX2 rows, 2 threads", radial_err, rms_levels(avx2_2, exact),
+        ta_2);
+  }
   row("points from the radius, scalar rows, 1 thread", radial_err, rms_levels(scalar1, exact),
       t_scalar);
   row("previous: table of green positions (AVX2), 1 thread", table_err, rms_levels(table1, exact),
@@ -308,13 +336,13 @@ int main(int argc, char** argv) {
   row("peer: OpenCV remap, green map for all channels, 1 thread", maps.green_only_error_px,
       std::nan(""), t_cv1);
   std::printf(
-      "\nmedian wall of the best of %d interleaved rounds; split row of the 2-thread bands: %d of "
-      "%d\nradius / previous table: %.3f (1 thread), %.3f (2 threads); radius / OpenCV 3-map "
+      "\nmedian wall of the best of %d interleaved rounds\nradius / previous table: %.3f (1 "
+      "thread), %.3f (2 threads); radius / OpenCV 3-map "
       "remap: %.3f; radius / green-only remap: %.3f\n",
-      rounds, pd2.split_row(), warp.panel_height(), t1.wall_ms / tt1.wall_ms,
-      t2.wall_ms / tt2.wall_ms, t1.wall_ms / t_cv3.wall_ms, t1.wall_ms / t_cv1.wall_ms);
-  std::printf("2 threads: %s the issue's 1.5 ms (median %.3f ms)\n",
-              t2.wall_ms <= 1.5 ? "within" : "over", t2.wall_ms);
+      rounds, t1.wall_ms / tt1.wall_ms, t2.wall_ms / tt2.wall_ms, t1.wall_ms / t_cv3.wall_ms,
+      t1.wall_ms / t_cv1.wall_ms);
+  std::printf("2 threads: %s the issue's 1.5 ms (median %.3f ms); load average %s",
+              t2.wall_ms <= 1.5 ? "within" : "over", t2.wall_ms, load_average().c_str());
 
   // GL: the fragment pass and meshes of several resolutions (pass + read-back, llvmpipe).
   std::unique_ptr<hd::render::GlCompositor> gl;

@@ -3,10 +3,12 @@
 #include <gio/gio.h>
 #include <gst/app/gstappsink.h>
 #include <gst/net/gstnetaddressmeta.h>
+#include <gst/rtp/gstrtcpbuffer.h>
 #include <gst/video/video.h>
 
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <mutex>
@@ -47,7 +49,9 @@ int64_t realtime_minus_monotonic_ns() {
 }  // namespace
 
 RtpCamera::RtpCamera(RtpReceiveConfig config)
-    : config_(std::move(config)), mailbox_(std::make_unique<Mailbox<Frame>>()) {
+    : config_(std::move(config)),
+      mailbox_(std::make_unique<Mailbox<Frame>>()),
+      clock_(config_.clock_drift_ppm) {
   format_.pixel_format = PixelFormat::kRgba8;
 }
 
@@ -86,9 +90,13 @@ FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
       std::to_string(config_.jitter_buffer_latency_ms) + " ms, NACK " +
       (config_.retransmission ? "on" : "off") +
       "; p_c from the station's calibration file; capture time = arrival time for a "
-      "plain RTP sender (it stamps none), the sender's ntp-64 stamp for hybrid-remote "
-      "(sender's CLOCK_REALTIME mapped through this host's: same host or NTP/PTP-"
-      "synchronised hosts assumed)" +
+      "plain RTP sender (it stamps none), the sender's ntp-64 stamp for hybrid-remote, " +
+      (config_.clock == RtpReceiveConfig::Clock::kSynchronized
+           ? "mapped through this host's CLOCK_REALTIME (clock: synchronized, stated error " +
+                 std::to_string(config_.clock_error_ns / 1000) + " us)"
+           : std::string("mapped through the offset measured from its RTCP sender reports and "
+                         "round trip (until measured: this host's CLOCK_REALTIME, exact on one "
+                         "host only)")) +
       (config_.srtp_key ? "; SRTP AES-128-GCM required (key file " + config_.srtp_key->file + ")"
                         : std::string("; no encryption (no key_file)"));
   return n;
@@ -165,6 +173,42 @@ void RtpCamera::build() {
         out, GST_PAD_PROBE_TYPE_BUFFER,
         [](GstPad*, GstPadProbeInfo*, gpointer self) {
           static_cast<RtpCamera*>(self)->decrypted_.fetch_add(1, std::memory_order_relaxed);
+          return GST_PAD_PROBE_OK;
+        },
+        this, nullptr);
+    gst_object_unref(out);
+    gst_object_unref(dec);
+  }
+
+  {  // receiver reports often (each gives the sender a round trip); the sender reports going in
+    GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpBin);
+    GObject* session = nullptr;
+    g_signal_emit_by_name(rtpbin, "get-internal-session", 0u, &session);
+    if (session != nullptr) {
+      g_object_set(session, "rtcp-min-interval",
+                   static_cast<guint64>(config_.rtcp_interval_ms) * GST_MSECOND, nullptr);
+      g_object_unref(session);
+    }
+    GstPad* in = gst_element_get_static_pad(rtpbin, "recv_rtcp_sink_0");
+    if (in != nullptr) {  // after srtpdec: the sender report is readable here
+      gst_pad_add_probe(
+          in, GST_PAD_PROBE_TYPE_BUFFER,
+          [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+            static_cast<RtpCamera*>(self)->on_rtcp_into_rtpbin(GST_PAD_PROBE_INFO_BUFFER(info));
+            return GST_PAD_PROBE_OK;
+          },
+          this, nullptr);
+      gst_object_unref(in);
+    }
+    gst_object_unref(rtpbin);
+  }
+  {
+    GstElement* dec = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kDecoder);
+    GstPad* out = gst_element_get_static_pad(dec, "src");
+    gst_pad_add_probe(
+        out, GST_PAD_PROBE_TYPE_BUFFER,
+        [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+          static_cast<RtpCamera*>(self)->on_decoded(GST_PAD_PROBE_INFO_BUFFER(info));
           return GST_PAD_PROBE_OK;
         },
         this, nullptr);
@@ -390,16 +434,90 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
     last_camera_index_.store(stamp.camera->camera_index, std::memory_order_relaxed);
     last_revision_.store(stamp.camera->calibration_revision, std::memory_order_relaxed);
   }
+  if (stamp.stages && stamp.stages->round_trip_count != 0 &&
+      stamp.stages->round_trip_count != last_round_trip_count_) {  // a new round trip
+    last_round_trip_count_ = stamp.stages->round_trip_count;
+    std::lock_guard lock(clock_mutex_);
+    clock_.add_round_trip(int64_t(stamp.stages->round_trip_us) * 1000);
+  }
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
   if (!GST_CLOCK_TIME_IS_VALID(pts)) return;
-  const int64_t capture_mono = *stamp.capture_unix_ns - realtime_minus_monotonic_ns();
+  const ClockMapping m = clock_mapping();
+  const int64_t capture_mono = *stamp.capture_unix_ns + m.offset_ns;
+  const int64_t encoded =
+      stamp.stages ? capture_mono + int64_t(stamp.stages->encoded_us) * 1000 : 0;
+  const int64_t sent = stamp.stages ? capture_mono + int64_t(stamp.stages->sent_us) * 1000 : 0;
+  std::lock_guard lock(stamp_mutex_);
+  for (StampSlot& s : stamps_)
+    if (s.pts == pts) {  // a later packet of the frame: the frame was sent with its last one
+      s.capture_mono_ns = capture_mono;
+      s.encoded_ns = encoded;
+      s.sent_ns = std::max(s.sent_ns, sent);
+      s.uncertainty_ns = m.uncertainty_ns;
+      return;
+    }
+  stamps_[stamp_next_] = {pts, capture_mono, encoded, sent, m.uncertainty_ns, 0};
+  stamp_next_ = (stamp_next_ + 1) % stamps_.size();
+}
+
+ClockMapping RtpCamera::clock_mapping() const {
+  if (config_.clock == RtpReceiveConfig::Clock::kSynchronized) {
+    ClockMapping m;
+    m.kind = ClockMapping::Kind::kSynchronized;
+    m.offset_ns = -realtime_minus_monotonic_ns();
+    m.uncertainty_ns = config_.clock_error_ns;
+    return m;
+  }
+  ClockMapping m;
+  {
+    std::lock_guard lock(clock_mutex_);
+    m = clock_.mapping(monotonic_now_ns());
+  }
+  if (m.kind == ClockMapping::Kind::kUnmeasured) m.offset_ns = -realtime_minus_monotonic_ns();
+  return m;
+}
+
+// RTCP into rtpbin (after srtpdec): each sender report is a sample of the sender's clock against
+// its arrival here (udpsrc's arrival stamp on the pipeline clock, CLOCK_MONOTONIC).
+void RtpCamera::on_rtcp_into_rtpbin(GstBuffer* buffer) {
+  const int64_t now = monotonic_now_ns();
+  int64_t arrival = now;
+  const GstClockTime pts = GST_BUFFER_PTS(buffer);
+  const GstClockTime base = pipeline_ != nullptr ? gst_element_get_base_time(pipeline_) : 0;
+  if (GST_CLOCK_TIME_IS_VALID(pts) && base != 0 && int64_t(pts + base) <= now)
+    arrival = int64_t(pts + base);
+  GstRTCPBuffer rtcp = GST_RTCP_BUFFER_INIT;
+  if (!gst_rtcp_buffer_validate_reduced(buffer) ||
+      !gst_rtcp_buffer_map(buffer, GST_MAP_READ, &rtcp))
+    return;
+  GstRTCPPacket packet;
+  for (gboolean more = gst_rtcp_buffer_get_first_packet(&rtcp, &packet); more;
+       more = gst_rtcp_packet_move_to_next(&packet)) {
+    if (gst_rtcp_packet_get_type(&packet) != GST_RTCP_TYPE_SR) continue;
+    guint32 ssrc = 0, rtptime = 0, packets = 0, octets = 0;
+    guint64 ntp = 0;
+    gst_rtcp_packet_sr_get_sender_info(&packet, &ssrc, &ntp, &rtptime, &packets, &octets);
+    const auto sent = ntp64_to_unix_ns(ntp);
+    if (!sent) continue;
+    sender_reports_.fetch_add(1, std::memory_order_relaxed);
+    std::lock_guard lock(clock_mutex_);
+    clock_.add_sender_report(*sent, arrival);
+  }
+  gst_rtcp_buffer_unmap(&rtcp);
+}
+
+void RtpCamera::on_decoded(GstBuffer* buffer) {
+  const GstClockTime pts = GST_BUFFER_PTS(buffer);
+  if (!GST_CLOCK_TIME_IS_VALID(pts)) return;
+  const int64_t now = monotonic_now_ns();
   std::lock_guard lock(stamp_mutex_);
   for (StampSlot& s : stamps_)
     if (s.pts == pts) {
-      s.capture_mono_ns = capture_mono;
+      s.decoded_ns = now;
       return;
     }
-  stamps_[stamp_next_] = {pts, capture_mono};
+  // A plain sender's frame has no slot yet: one for its decode time only.
+  stamps_[stamp_next_] = {pts, 0, 0, 0, -1, now};
   stamp_next_ = (stamp_next_ + 1) % stamps_.size();
 }
 
@@ -483,12 +601,14 @@ void RtpCamera::on_sample(GstElement* sink) {
   }
   int64_t capture_ns = 0;
   bool stamped = false;
+  StampSlot stages;
   if (GST_CLOCK_TIME_IS_VALID(pts)) {
     std::lock_guard lock(stamp_mutex_);
     for (const StampSlot& s : stamps_)
       if (s.pts == pts) {
+        stages = s;
         capture_ns = s.capture_mono_ns;
-        stamped = true;
+        stamped = s.capture_mono_ns != 0;
       }
   }
   if (stamped && capture_ns > arrival_ns) {
@@ -517,8 +637,17 @@ void RtpCamera::on_sample(GstElement* sink) {
   mailbox_->publish();
   frames_published_.fetch_add(1, std::memory_order_relaxed);
   key_frame_requested_.store(false, std::memory_order_release);
-  timings_.push(
-      {sequence_, stamped ? capture_ns : arrival_ns, arrival_ns, monotonic_now_ns(), stamped});
+  RtpFrameTiming timing;
+  timing.sequence = sequence_;
+  timing.capture_ns = stamped ? capture_ns : arrival_ns;
+  timing.encoded_ns = stamped ? stages.encoded_ns : 0;
+  timing.sent_ns = stamped ? stages.sent_ns : 0;
+  timing.arrival_ns = arrival_ns;
+  timing.decoded_ns = stages.decoded_ns;
+  timing.published_ns = monotonic_now_ns();
+  timing.clock_uncertainty_ns = stamped ? stages.uncertainty_ns : 0;
+  timing.stamped = stamped;
+  timings_.push(timing);
   last_frame_ns_.store(now, std::memory_order_relaxed);
   state_.store(SourceState::kStreaming, std::memory_order_release);
 }
@@ -654,6 +783,8 @@ RtpCameraStats RtpCamera::stats() const {
   }
   s.last_camera_index = last_camera_index_.load(std::memory_order_relaxed);
   s.last_calibration_revision = last_revision_.load(std::memory_order_relaxed);
+  s.sender_reports = sender_reports_.load(std::memory_order_relaxed);
+  s.clock = clock_mapping();
   std::lock_guard lock(error_mutex_);
   s.last_error = last_error_;
   return s;

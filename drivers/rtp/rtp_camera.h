@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "drivers/camera_source.h"
+#include "drivers/rtp/clock_offset_estimator.h"
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
@@ -20,12 +21,18 @@
 
 namespace hd::drivers {
 
-/// When one frame crossed each stage, for the link's latency (CLOCK_MONOTONIC ns).
+/// When one frame crossed each stage of the link, for its latency (CLOCK_MONOTONIC ns; 0 = not
+/// known: a plain sender stamps no encode or send time).
 struct RtpFrameTiming {
   uint64_t sequence = 0;
   int64_t capture_ns = 0;    ///< the sender's capture time, mapped (or the arrival if unstamped)
-  int64_t arrival_ns = 0;    ///< its packets left the jitter buffer
-  int64_t published_ns = 0;  ///< decoded, converted and in the mailbox
+  int64_t encoded_ns = 0;    ///< the sender's encoder output (capture + its sender-stages offset)
+  int64_t sent_ns = 0;       ///< its last packet left the sender's payloader (likewise)
+  int64_t arrival_ns = 0;    ///< received: udpsrc's arrival time, as the jitter buffer gave it
+  int64_t decoded_ns = 0;    ///< avdec_h264 output it
+  int64_t published_ns = 0;  ///< converted to RGBA and in the mailbox
+  /// capture_ns (and so encoded_ns, sent_ns) is true to within this (-1 unknown); 0 unstamped.
+  int64_t clock_uncertainty_ns = -1;
   bool stamped = false;
 };
 
@@ -64,7 +71,9 @@ struct RtpCameraStats {
   /// time (0: none or unstamped).
   uint64_t key_frames = 0;
   int64_t last_key_frame_capture_ns = 0;
-  std::string last_error;  ///< the newest bus error's text ("" none)
+  std::string last_error;       ///< the newest bus error's text ("" none)
+  ClockMapping clock;           ///< the sender-clock mapping in use now
+  uint64_t sender_reports = 0;  ///< RTCP sender reports received (clock samples)
 };
 
 /// Receives `rtp://HOST:PORT`: the pipeline of receive_pipeline_description() (udpsrc → rtpbin
@@ -79,8 +88,10 @@ struct RtpCameraStats {
 ///
 /// Time: a frame stamped by hybrid-remote (rtp_frame_stamp.h: ntp-64 on every packet) carries
 /// its capture time on the sender's CLOCK_REALTIME; it is mapped onto CLOCK_MONOTONIC through
-/// this host's realtime - monotonic offset, which is exact on one machine and as good as the
-/// two hosts' clock synchronisation (NTP/PTP) otherwise; device_time_trusted is then true. A
+/// the offset measured from the sender's RTCP sender reports and its round trip
+/// (ClockOffsetEstimator; until the first of both, this host's realtime - monotonic offset,
+/// exact on one machine only), or with `Clock::kSynchronized` through this host's realtime -
+/// monotonic offset with the sites' stated error; device_time_trusted is then true. A
 /// mapped time after the frame's arrival is impossible and replaced by the arrival (counted). A
 /// plain sender says nothing about when it captured a frame, so its host time is its arrival:
 /// the jitter buffer's output time of its packets (udpsrc's arrival stamps, with the jitter
@@ -110,6 +121,8 @@ class RtpCamera final : public CameraSource {
   Mailbox<Frame>& frames() override { return *mailbox_; }
 
   RtpCameraStats stats() const;
+  /// The sender-clock mapping in use now (any thread; not the render thread: takes a mutex).
+  ClockMapping clock_mapping() const;
   /// RTCP feedback this station sent to the sender so far, from rtpbin's session statistics:
   /// picture loss indications (key-frame requests) and NACKs. Not for the render thread.
   struct Feedback {
@@ -154,6 +167,8 @@ class RtpCamera final : public CameraSource {
   void on_sample(GstElement* sink);
   GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
   void on_depay_packet(GstBuffer* buffer);
+  void on_rtcp_into_rtpbin(GstBuffer* buffer);
+  void on_decoded(GstBuffer* buffer);
   static GstPadProbeReturn depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
   static GstFlowReturn new_sample_cb(GstElement* sink, gpointer self);
   static GstPadProbeReturn rtp_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
@@ -211,8 +226,17 @@ class RtpCamera final : public CameraSource {
   struct StampSlot {
     uint64_t pts = ~0ull;
     int64_t capture_mono_ns = 0;
+    int64_t encoded_ns = 0, sent_ns = 0;  // 0: no sender-stages element
+    int64_t uncertainty_ns = -1;
+    int64_t decoded_ns = 0;
   };
   std::mutex stamp_mutex_;
+  // The sender-clock estimate: sender reports from the RTCP thread, round trips from the
+  // depayloader's.
+  mutable std::mutex clock_mutex_;
+  ClockOffsetEstimator clock_;
+  uint8_t last_round_trip_count_ = 0;  // depayloader thread
+  std::atomic<uint64_t> sender_reports_{0};
   std::array<StampSlot, 16> stamps_{};
   std::size_t stamp_next_ = 0;
   mutable std::mutex error_mutex_;

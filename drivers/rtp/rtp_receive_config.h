@@ -42,6 +42,17 @@ struct RtpReceiveConfig {
   std::optional<SrtpKey> srtp_key;
   /// netsim in the path even with no loss or delay (so a test can cut the link while running).
   bool netsim_always = false;
+  /// How the sender's capture times (its CLOCK_REALTIME) reach this host's CLOCK_MONOTONIC:
+  /// measured from its RTCP sender reports and round trip (ClockOffsetEstimator), or, when the
+  /// sites declare synchronised clocks (chrony/PTP; station.yaml `clock: synchronized`), this
+  /// host's CLOCK_REALTIME with their stated error (`clock_error_ms`) as the uncertainty.
+  enum class Clock : uint8_t { kMeasured, kSynchronized };
+  Clock clock = Clock::kMeasured;
+  int64_t clock_error_ns = 1'000'000;
+  double clock_drift_ppm = 100.0;  ///< allowed drift between the two clocks (measured mode)
+  /// This station's RTCP receiver reports at least this often (rtpsession rtcp-min-interval):
+  /// each gives the sender a round trip, which the clock estimate needs.
+  int rtcp_interval_ms = 1000;
   bool netsim() const {
     return netsim_always || netsim_drop_probability > 0.0 || netsim_max_delay_ms > 0 ||
            netsim_min_delay_ms > 0;

@@ -45,7 +45,8 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
   d += std::string(kRtpBin) + ".send_rtcp_src_0 ! multiudpsink name=" + kRtcpSink +
        " sync=false async=false ";
   d += std::string(kRtpBin) + ". ! rtph264depay name=" + kDepayloader +
-       " request-keyframe=true wait-for-keyframe=true ! avdec_h264 max-threads=1 ! videoconvert ! "
+       " request-keyframe=true wait-for-keyframe=true ! avdec_h264 name=" + kDecoder +
+       " max-threads=1 ! videoconvert ! "
        "video/x-raw,format=RGBA ! appsink name=" +
        kAppSink + " sync=false max-buffers=1 drop=true";
   return d;

@@ -15,6 +15,7 @@ inline constexpr const char* kRtpSource = "rtp_src";
 inline constexpr const char* kRtcpSource = "rtcp_src";
 inline constexpr const char* kRtcpSink = "rtcp_sink";
 inline constexpr const char* kDepayloader = "depay";
+inline constexpr const char* kDecoder = "dec";
 inline constexpr const char* kAppSink = "sink";
 inline constexpr const char* kSrtpDecoder = "srtpdec";
 inline constexpr const char* kNetsim = "netsim";

@@ -37,6 +37,13 @@ struct RtpSendConfig {
   double view_feedback_timeout_s = 2.0;
   uint8_t camera_index = 0;
   uint32_t calibration_revision = 0;
+  /// RTCP sender reports at least this often (rtpsession rtcp-min-interval): each one is a
+  /// sample of the station's clock-offset estimate (RFC 3550 allows 360 / kbit/s seconds).
+  int rtcp_interval_ms = 1000;
+  /// Tests only: this sender's clock runs this far ahead of the host's CLOCK_REALTIME (its ntp-64
+  /// capture times, its RTCP sender reports and the receiver reports' round trip alike), as a
+  /// sender at another site would whose clock is off.
+  int64_t test_clock_shift_ns = 0;
   /// With a key: SRTP AES-128-GCM (srtpenc) on media and RTCP.
   std::optional<drivers::SrtpKey> srtp_key;
 

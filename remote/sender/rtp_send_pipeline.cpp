@@ -17,8 +17,10 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
   using namespace send_elements;
   const int fps_n = static_cast<int>(std::lround(c.rate_hz * 1000.0));
   std::string d;
-  // AVPF (RFC 4585): the station's NACK and PLI are acted on as they come.
-  d += std::string("rtpbin name=") + kRtpBin + " rtp-profile=avpf ";
+  // AVPF (RFC 4585): the station's NACK and PLI are acted on as they come. rtpsession would
+  // overwrite the ntp-64 element with its own NTP time of the buffer's running time
+  // (update-ntp64-header-ext, default true in 1.22): the capture time is push()'s.
+  d += std::string("rtpbin name=") + kRtpBin + " rtp-profile=avpf update-ntp64-header-ext=false ";
   d += std::string("appsrc name=") + kAppSource +
        " is-live=true format=time do-timestamp=false max-buffers=2 leaky-type=downstream "
        "caps=video/x-raw,format=RGBA,width=" +

@@ -2,6 +2,7 @@
 
 #include <gio/gio.h>
 #include <gst/app/gstappsrc.h>
+#include <gst/rtp/gstrtcpbuffer.h>
 #include <gst/rtp/rtp.h>
 #include <gst/video/video.h>
 #include <time.h>
@@ -11,6 +12,7 @@
 #include <stdexcept>
 
 #include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/clock_offset_estimator.h"
 #include "drivers/rtp/gstreamer_init.h"
 #include "drivers/rtp/rtp_aux_bin.h"
 #include "drivers/rtp/rtp_frame_stamp.h"
@@ -29,6 +31,11 @@ int64_t realtime_minus_monotonic_ns() {
 
 GstElement* by_name(GstElement* pipeline, const char* name) {
   return gst_bin_get_by_name(GST_BIN(pipeline), name);
+}
+
+uint32_t micros_between(int64_t from_ns, int64_t to_ns) {
+  const int64_t us = (to_ns - from_ns) / 1000;
+  return us < 0 ? 0u : us > int64_t(UINT32_MAX) ? UINT32_MAX : static_cast<uint32_t>(us);
 }
 
 }  // namespace
@@ -87,17 +94,51 @@ void RtpSender::start() {
         g_object_unref(socket);
       }
       // The station's view feedback arrives here beside its RTCP: read and taken out before
-      // rtpbin (a lone APP packet is no valid compound RTCP for it).
+      // rtpbin (a lone APP packet is no valid compound RTCP for it) and before the round-trip
+      // probe below (added later, so called later).
       GstPad* in_src = gst_element_get_static_pad(in, "src");
       gst_pad_add_probe(
           in_src, GST_PAD_PROBE_TYPE_BUFFER,
           [](GstPad*, GstPadProbeInfo* info, gpointer self) {
-            return static_cast<RtpSender*>(self)->on_rtcp_in(GST_PAD_PROBE_INFO_BUFFER(info));
+            return static_cast<RtpSender*>(self)->on_view_feedback(GST_PAD_PROBE_INFO_BUFFER(info));
           },
           this, nullptr);
       gst_object_unref(in_src);
       gst_object_unref(in);
       gst_object_unref(out);
+    }
+    GstElement* rtpbin = by_name(pipeline_, send_elements::kRtpBin);
+    {  // sender reports often enough for the station's clock estimate
+      GObject* session = nullptr;
+      g_signal_emit_by_name(rtpbin, "get-internal-session", 0u, &session);
+      if (session != nullptr) {
+        g_object_set(session, "rtcp-min-interval",
+                     static_cast<guint64>(config_.rtcp_interval_ms) * GST_MSECOND, nullptr);
+        g_object_unref(session);
+      }
+      GstPad* out = gst_element_get_static_pad(rtpbin, "send_rtcp_src_0");
+      if (out != nullptr) {
+        gst_pad_add_probe(
+            out, GST_PAD_PROBE_TYPE_BUFFER,
+            [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+              return static_cast<RtpSender*>(self)->on_rtcp_out(info);
+            },
+            this, nullptr);
+        gst_object_unref(out);
+      }
+    }
+    gst_object_unref(rtpbin);
+    {  // the station's receiver reports: the round trip (before rtpbin, which keeps its own)
+      GstElement* in = by_name(pipeline_, send_elements::kRtcpIn);
+      GstPad* pad = gst_element_get_static_pad(in, "src");
+      gst_pad_add_probe(
+          pad, GST_PAD_PROBE_TYPE_BUFFER,
+          [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+            return static_cast<RtpSender*>(self)->on_rtcp_in(GST_PAD_PROBE_INFO_BUFFER(info));
+          },
+          this, nullptr);
+      gst_object_unref(pad);
+      gst_object_unref(in);
     }
     GstElement* pay = by_name(pipeline_, send_elements::kPayloader);
     {  // RTX: answer rtpbin's request for an aux sender, then request the pad that asks for it
@@ -202,6 +243,7 @@ bool RtpSender::push(const drivers::Frame& f) {
     gst_buffer_add_reference_timestamp_meta(
         b, caps,
         static_cast<GstClockTime>(f.host_timestamp_ns + realtime_minus_monotonic_ns() +
+                                  config_.test_clock_shift_ns +
                                   drivers::kNtpUnixOffsetS * 1'000'000'000LL),
         GST_CLOCK_TIME_NONE);
     gst_caps_unref(caps);
@@ -220,6 +262,8 @@ GstPadProbeReturn RtpSender::on_encoded(GstPadProbeInfo* info) {
     last_key_frame_index_.store(index, std::memory_order_relaxed);
     key_frames_.fetch_add(1, std::memory_order_release);
   }
+  encoded_pts_ = GST_BUFFER_PTS(GST_PAD_PROBE_INFO_BUFFER(info));
+  encoded_mono_ns_ = drivers::monotonic_now_ns();
   GstCaps* caps = gst_caps_new_empty_simple("timestamp/x-ntp");
   if (gst_buffer_get_reference_timestamp_meta(b, caps) != nullptr)
     frames_stamped_.fetch_add(1, std::memory_order_relaxed);
@@ -233,8 +277,27 @@ bool RtpSender::stamp_packet(GstBuffer* buffer) {
   uint8_t data[drivers::kCameraStateSize];
   drivers::write_camera_state({config_.camera_index, config_.calibration_revision},
                               std::span<uint8_t, drivers::kCameraStateSize>(data));
-  const bool ok = gst_rtp_buffer_add_extension_onebyte_header(
-      &rtp, drivers::kCameraStateExtensionId, data, sizeof data);
+  bool ok = gst_rtp_buffer_add_extension_onebyte_header(&rtp, drivers::kCameraStateExtensionId,
+                                                        data, sizeof data);
+  // Stage times after capture (the PTS is the capture time on the pipeline clock).
+  const GstClockTime pts = GST_BUFFER_PTS(buffer);
+  if (GST_CLOCK_TIME_IS_VALID(pts)) {
+    const int64_t capture_ns = static_cast<int64_t>(pts + gst_element_get_base_time(pipeline_));
+    const int64_t now = drivers::monotonic_now_ns();
+    drivers::SenderStagesStamp st;
+    st.encoded_us = micros_between(capture_ns, pts == encoded_pts_ ? encoded_mono_ns_ : now);
+    st.sent_us = micros_between(capture_ns, now);
+    const uint64_t trips = round_trips_.load(std::memory_order_relaxed);
+    const int64_t rtt = round_trip_ns_.load(std::memory_order_relaxed);
+    // The count wraps past 255 to 1: 0 means "none measured yet".
+    st.round_trip_count = trips == 0 ? 0 : static_cast<uint8_t>((trips - 1) % 255 + 1);
+    st.round_trip_us = rtt < 0 ? 0u : micros_between(0, rtt);
+    uint8_t stages[drivers::kSenderStagesSize];
+    drivers::write_sender_stages(st, std::span<uint8_t, drivers::kSenderStagesSize>(stages));
+    ok = gst_rtp_buffer_add_extension_onebyte_header(&rtp, drivers::kSenderStagesExtensionId,
+                                                     stages, sizeof stages) &&
+         ok;
+  }
   gst_rtp_buffer_unmap(&rtp);
   if (ok) packets_stamped_.fetch_add(1, std::memory_order_relaxed);
   return ok;
@@ -262,7 +325,7 @@ bool RtpSender::needed_now(int64_t now_ns) const {
   return station_needs_.load(std::memory_order_relaxed);
 }
 
-GstPadProbeReturn RtpSender::on_rtcp_in(GstBuffer* buffer) {
+GstPadProbeReturn RtpSender::on_view_feedback(GstBuffer* buffer) {
   GstMapInfo map;
   if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_OK;
   drivers::ViewFeedback f;
@@ -290,9 +353,78 @@ GstPadProbeReturn RtpSender::on_rtcp_in(GstBuffer* buffer) {
   return GST_PAD_PROBE_DROP;
 }
 
+int64_t RtpSender::sender_realtime_ns() const {
+  return drivers::monotonic_now_ns() + realtime_minus_monotonic_ns() + config_.test_clock_shift_ns;
+}
+
+// rtpbin's RTCP on its way out: count the sender reports, and with a test clock shift move their
+// NTP time by it (rtpsession reads the host's CLOCK_REALTIME itself).
+GstPadProbeReturn RtpSender::on_rtcp_out(GstPadProbeInfo* info) {
+  GstBuffer* b = GST_PAD_PROBE_INFO_BUFFER(info);
+  const bool shift = config_.test_clock_shift_ns != 0;
+  if (shift) {
+    b = gst_buffer_make_writable(b);
+    GST_PAD_PROBE_INFO_DATA(info) = b;
+  }
+  GstRTCPBuffer rtcp = GST_RTCP_BUFFER_INIT;
+  if (!gst_rtcp_buffer_map(b, shift ? GST_MAP_READWRITE : GST_MAP_READ, &rtcp))
+    return GST_PAD_PROBE_OK;
+  GstRTCPPacket packet;
+  for (gboolean more = gst_rtcp_buffer_get_first_packet(&rtcp, &packet); more;
+       more = gst_rtcp_packet_move_to_next(&packet)) {
+    if (gst_rtcp_packet_get_type(&packet) != GST_RTCP_TYPE_SR) continue;
+    sender_reports_.fetch_add(1, std::memory_order_relaxed);
+    if (!shift) continue;
+    guint32 ssrc = 0, rtptime = 0, packets = 0, octets = 0;
+    guint64 ntp = 0;
+    gst_rtcp_packet_sr_get_sender_info(&packet, &ssrc, &ntp, &rtptime, &packets, &octets);
+    if (const auto unix_ns = drivers::ntp64_to_unix_ns(ntp))
+      gst_rtcp_packet_sr_set_sender_info(
+          &packet, ssrc, drivers::unix_ns_to_ntp64(*unix_ns + config_.test_clock_shift_ns), rtptime,
+          packets, octets);
+  }
+  gst_rtcp_buffer_unmap(&rtcp);
+  return GST_PAD_PROBE_OK;
+}
+
+// The station's RTCP: each report block about our stream gives a round trip (RFC 3550 A.8) on
+// the clock of our sender reports.
+GstPadProbeReturn RtpSender::on_rtcp_in(GstBuffer* buffer) {
+  const uint32_t arrival = drivers::compact_ntp(sender_realtime_ns());
+  GstRTCPBuffer rtcp = GST_RTCP_BUFFER_INIT;
+  if (!gst_rtcp_buffer_validate_reduced(buffer) ||
+      !gst_rtcp_buffer_map(buffer, GST_MAP_READ, &rtcp))
+    return GST_PAD_PROBE_OK;
+  GstRTCPPacket packet;
+  for (gboolean more = gst_rtcp_buffer_get_first_packet(&rtcp, &packet); more;
+       more = gst_rtcp_packet_move_to_next(&packet)) {
+    const GstRTCPType type = gst_rtcp_packet_get_type(&packet);
+    if (type != GST_RTCP_TYPE_RR && type != GST_RTCP_TYPE_SR) continue;
+    for (guint i = 0; i < gst_rtcp_packet_get_rb_count(&packet); ++i) {
+      guint32 ssrc = 0, exthighestseq = 0, jitter = 0, lsr = 0, dlsr = 0;
+      guint8 fractionlost = 0;
+      gint32 packetslost = 0;
+      gst_rtcp_packet_get_rb(&packet, i, &ssrc, &fractionlost, &packetslost, &exthighestseq,
+                             &jitter, &lsr, &dlsr);
+      const int64_t rtt = drivers::round_trip_from_report_block(arrival, lsr, dlsr);
+      if (rtt < 0) continue;
+      round_trip_ns_.store(rtt, std::memory_order_relaxed);
+      round_trips_.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+  gst_rtcp_buffer_unmap(&rtcp);
+  return GST_PAD_PROBE_OK;
+}
+
 RtpSenderStats RtpSender::stats() const {
-  RtpSenderStats s{pushed_.load(), refused_.load(), packets_stamped_.load(),
-                   frames_stamped_.load()};
+  RtpSenderStats s;
+  s.frames_pushed = pushed_.load();
+  s.frames_refused = refused_.load();
+  s.packets_stamped = packets_stamped_.load();
+  s.frames_stamped = frames_stamped_.load();
+  s.sender_reports = sender_reports_.load();
+  s.round_trips = round_trips_.load();
+  s.round_trip_ns = round_trip_ns_.load();
   s.frames_encoded = frames_encoded_.load();
   s.key_frames = key_frames_.load();
   s.last_key_frame_index = last_key_frame_index_.load();

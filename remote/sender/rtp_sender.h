@@ -32,15 +32,20 @@ struct RtpSenderStats {
       view_feedback_malformed{};
   uint64_t frames_skipped_not_needed = 0;
   uint64_t key_frames_forced = 0;
-  bool needed = true;  ///< as of the last push()
+  bool needed = true;           ///< as of the last push()
+  uint64_t sender_reports = 0;  ///< RTCP sender reports sent
+  uint64_t round_trips = 0;     ///< round trips measured from the station's receiver reports
+  int64_t round_trip_ns = -1;   ///< the newest (-1 none yet)
 };
 
 /// Builds send_pipeline_description(), adds GStreamer's rtphdrextntp64 (id 1, every packet) to
 /// the payloader and the camera-state element (id 2, drivers/rtp/rtp_frame_stamp.h) to every
 /// packet, then takes RGBA frames with push(). Each frame's capture time (its host_timestamp_ns,
-/// CLOCK_MONOTONIC) is sent as CLOCK_REALTIME in NTP format (RFC 6051 ntp-64), so a station on
-/// another host with synchronised clocks can map it; the frame's PTS on the pipeline (also
-/// CLOCK_MONOTONIC) is its capture time, so the encoder sees the real frame spacing.
+/// CLOCK_MONOTONIC) is sent as CLOCK_REALTIME in NTP format (RFC 6051 ntp-64), the clock of its
+/// RTCP sender reports, from which the station measures the offset between the two; the frame's
+/// PTS on the pipeline (also CLOCK_MONOTONIC) is its capture time, so the encoder sees the real
+/// frame spacing. Every packet also carries the sender-stages element (id 4): encode and send
+/// times after capture, and the newest round trip measured from the station's receiver reports.
 class RtpSender {
  public:
   explicit RtpSender(RtpSendConfig config);
@@ -65,8 +70,11 @@ class RtpSender {
   GstPadProbeReturn on_encoded(GstPadProbeInfo* info);
   GstPadProbeReturn on_packets(GstPadProbeInfo* info);
   bool stamp_packet(GstBuffer* buffer);
-  GstPadProbeReturn on_rtcp_in(GstBuffer* buffer);
+  GstPadProbeReturn on_view_feedback(GstBuffer* buffer);
   bool needed_now(int64_t now_ns) const;
+  GstPadProbeReturn on_rtcp_out(GstPadProbeInfo* info);
+  GstPadProbeReturn on_rtcp_in(GstBuffer* buffer);
+  int64_t sender_realtime_ns() const;  // the host's CLOCK_REALTIME + test_clock_shift_ns
 
   RtpSendConfig config_;
   GstElement* pipeline_ = nullptr;
@@ -89,6 +97,11 @@ class RtpSender {
   uint64_t push_index_ = 0;
   std::atomic<uint64_t> skipped_{0}, forced_{0};
   std::atomic<bool> needed_reported_{true};
+  std::atomic<uint64_t> sender_reports_{0}, round_trips_{0};
+  std::atomic<int64_t> round_trip_ns_{-1};
+  // Streaming thread of the payloader: when the frame now being packetised reached it.
+  GstClockTime encoded_pts_ = GST_CLOCK_TIME_NONE;
+  int64_t encoded_mono_ns_ = 0;
 };
 
 }  // namespace hd::remote

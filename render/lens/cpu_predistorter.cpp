@@ -123,11 +123,14 @@ struct Taps8 {
   __m256i idx, wx, fy;
 };
 
+template <bool kClamp>
 __attribute__((target("avx2,fma"))) inline Taps8 taps8(int stride4, __m256i X, __m256i Y,
                                                        __m256i x_min, __m256i x_max,
                                                        __m256i y_max) {
-  X = _mm256_min_epi32(_mm256_max_epi32(X, x_min), x_max);
-  Y = _mm256_min_epi32(_mm256_max_epi32(Y, _mm256_setzero_si256()), y_max);
+  if (kClamp) {
+    X = _mm256_min_epi32(_mm256_max_epi32(X, x_min), x_max);
+    Y = _mm256_min_epi32(_mm256_max_epi32(Y, _mm256_setzero_si256()), y_max);
+  }
   const __m256i m255 = _mm256_set1_epi32(255);
   const __m256i idx =
       _mm256_add_epi32(_mm256_mullo_epi32(_mm256_srai_epi32(Y, 8), _mm256_set1_epi32(stride4)),
@@ -144,15 +147,16 @@ __attribute__((target("avx2,fma"))) inline Taps8 taps8(int stride4, __m256i X, _
 // `pick_lo` / `pick_hi` move the channel's two bytes of each pair (RGBA RGBA) into 16-bit words:
 // the gathers of lanes {0, 1, 4, 5} fill the low 8 bytes of each 128-bit lane, those of
 // {2, 3, 6, 7} the high 8, which puts the pixels back in order.
-__attribute__((target("avx2,fma"))) inline __m256i fetch8_pairs(const long long* base, int stride4,
+// `below` is `base` one row on: the same indices fetch the bottom pairs.
+__attribute__((target("avx2,fma"))) inline __m256i fetch8_pairs(const long long* base,
+                                                                const long long* below,
                                                                 const Taps8& t, __m256i pick_lo,
                                                                 __m256i pick_hi) {
   const __m128i lo = _mm256_castsi256_si128(t.idx), hi = _mm256_extracti128_si256(t.idx, 1);
-  const __m128i row = _mm_set1_epi32(stride4);
   const __m256i t_lo = _mm256_i32gather_epi64(base, lo, 4);
   const __m256i t_hi = _mm256_i32gather_epi64(base, hi, 4);
-  const __m256i b_lo = _mm256_i32gather_epi64(base, _mm_add_epi32(lo, row), 4);
-  const __m256i b_hi = _mm256_i32gather_epi64(base, _mm_add_epi32(hi, row), 4);
+  const __m256i b_lo = _mm256_i32gather_epi64(below, lo, 4);
+  const __m256i b_hi = _mm256_i32gather_epi64(below, hi, 4);
   const __m256i top_w =
       _mm256_or_si256(_mm256_shuffle_epi8(t_lo, pick_lo), _mm256_shuffle_epi8(t_hi, pick_hi));
   const __m256i bottom_w =
@@ -183,10 +187,12 @@ struct RadialArgs {
 // core overlap more groups' gathers. The last partial group is computed whole and stored under
 // a mask (its extra lanes are clamped into the eye like any other sample, so they read inside
 // the image).
+template <bool kClamp>
 __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, uint32_t* out, int x,
                                                           int end, int half_offset) {
   constexpr int kChunk = 16;
   const long long* b64 = reinterpret_cast<const long long*>(a.base);
+  const long long* b64_below = reinterpret_cast<const long long*>(a.base + a.stride);
   const int stride4 = a.stride / 4;
   const __m256i x_min = _mm256_set1_epi32(a.x_lo * 256),
                 x_max = _mm256_set1_epi32(a.x_hi * 256 - 1);
@@ -226,13 +232,13 @@ __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, u
       const __m256 ax = _mm256_mul_ps(t, dx), ay = _mm256_mul_ps(t, dy);
       for (int c = 0; c < 3; ++c)
         taps[g][c] =
-            taps8(stride4, _mm256_cvttps_epi32(_mm256_fmadd_ps(ax, gx[c], ox)),
-                  _mm256_cvttps_epi32(_mm256_fmadd_ps(ay, gy[c], oy)), x_min, x_max, y_max);
+            taps8<kClamp>(stride4, _mm256_cvttps_epi32(_mm256_fmadd_ps(ax, gx[c], ox)),
+                          _mm256_cvttps_epi32(_mm256_fmadd_ps(ay, gy[c], oy)), x_min, x_max, y_max);
     }
     for (int g = 0; g < groups; ++g, x += 8) {
-      const __m256i r = fetch8_pairs(b64, stride4, taps[g][0], pick_lo[0], pick_hi[0]);
-      const __m256i gr = fetch8_pairs(b64, stride4, taps[g][1], pick_lo[1], pick_hi[1]);
-      const __m256i bl = fetch8_pairs(b64, stride4, taps[g][2], pick_lo[2], pick_hi[2]);
+      const __m256i r = fetch8_pairs(b64, b64_below, taps[g][0], pick_lo[0], pick_hi[0]);
+      const __m256i gr = fetch8_pairs(b64, b64_below, taps[g][1], pick_lo[1], pick_hi[1]);
+      const __m256i bl = fetch8_pairs(b64, b64_below, taps[g][2], pick_lo[2], pick_hi[2]);
       const __m256i px = _mm256_or_si256(_mm256_or_si256(r, _mm256_slli_epi32(gr, 8)),
                                          _mm256_or_si256(_mm256_slli_epi32(bl, 16), alpha));
       if (end - x >= 8) {
@@ -245,8 +251,119 @@ __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, u
   }
 }
 
+// The AVX-512 (F, BW, VBMI) form of radial_span_avx2: 16 pixels per group, a 64-bit gather lane
+// per texel pair in pixel order (8 per instruction), and one vpermt2b per row of texels picking
+// the channel's two bytes of all 16 pairs into 16-bit words. The same integer arithmetic.
+// GCC 12 warns that its own _mm512_undefined_* pass-through operands of the unmasked
+// conversions and square root "may be used uninitialized" (a false positive in the headers).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+struct Taps16 {
+  __m512i idx, wx, fy;
+};
+
+template <bool kClamp>
+__attribute__((target("avx512f,avx512bw,avx512vbmi,avx2,fma"))) void radial_span_avx512(
+    const RadialArgs& a, uint32_t* out, int x, int end, int half_offset) {
+  constexpr int kChunk = 8;
+  const int stride4 = a.stride / 4;
+  const __m512i x_min = _mm512_set1_epi32(a.x_lo * 256),
+                x_max = _mm512_set1_epi32(a.x_hi * 256 - 1);
+  const __m512i y_max = _mm512_set1_epi32(a.y_hi * 256 - 1);
+  const __m512i zero = _mm512_setzero_si512(), m255 = _mm512_set1_epi32(255);
+  const __m512i alpha = _mm512_set1_epi32(static_cast<int>(0xFF000000u));
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512 d0x = _mm512_set1_ps(a.d0x), kx = _mm512_set1_ps(a.kx);
+  const __m512 dy = _mm512_set1_ps(a.dy), ry2 = _mm512_set1_ps(a.ry2);
+  const __m512 top_coeff = _mm512_set1_ps(a.ratio[a.ratio_terms - 1]);
+  __m512 gx[3], gy[3];
+  __m512i pick[3];  // per pixel p: bytes 8p + c and 8p + 4 + c of the two gathered registers
+  for (int c = 0; c < 3; ++c) {
+    gx[c] = _mm512_set1_ps(a.gain256[c][0]);
+    gy[c] = _mm512_set1_ps(a.gain256[c][1]);
+    alignas(64) uint8_t sel[64];
+    for (int p = 0; p < 16; ++p) {
+      sel[4 * p] = static_cast<uint8_t>(8 * p + c);
+      sel[4 * p + 1] = 0;
+      sel[4 * p + 2] = static_cast<uint8_t>(8 * p + 4 + c);
+      sel[4 * p + 3] = 0;
+    }
+    pick[c] = _mm512_load_si512(sel);
+  }
+  const __mmask64 even_bytes = 0x5555555555555555ull;
+  const __m512 ox = _mm512_set1_ps(a.origin256[0]), oy = _mm512_set1_ps(a.origin256[1]);
+  const __m512i stride4v = _mm512_set1_epi32(stride4);
+  Taps16 taps[kChunk][3];
+  while (x < end) {
+    const int groups = std::min(kChunk, (end - x + 15) / 16);
+    for (int g = 0; g < groups; ++g) {
+      const __m512i col = _mm512_add_epi32(_mm512_set1_epi32(x + 16 * g - half_offset), iota);
+      const __m512 dx = _mm512_add_ps(_mm512_cvtepi32_ps(col), d0x);
+      const __m512 rx = _mm512_mul_ps(dx, kx);
+      const __m512 r = _mm512_sqrt_ps(_mm512_fmadd_ps(rx, rx, ry2));
+      __m512 t = top_coeff;
+      for (int i = a.ratio_terms - 2; i >= 0; --i)
+        t = _mm512_fmadd_ps(t, r, _mm512_set1_ps(a.ratio[i]));
+      const __m512 ax = _mm512_mul_ps(t, dx), ay = _mm512_mul_ps(t, dy);
+      for (int c = 0; c < 3; ++c) {
+        __m512i X = _mm512_cvttps_epi32(_mm512_fmadd_ps(ax, gx[c], ox));
+        __m512i Y = _mm512_cvttps_epi32(_mm512_fmadd_ps(ay, gy[c], oy));
+        if (kClamp) {
+          X = _mm512_min_epi32(_mm512_max_epi32(X, x_min), x_max);
+          Y = _mm512_min_epi32(_mm512_max_epi32(Y, zero), y_max);
+        }
+        const __m512i fx = _mm512_and_si512(X, m255);
+        taps[g][c].idx = _mm512_add_epi32(_mm512_mullo_epi32(_mm512_srai_epi32(Y, 8), stride4v),
+                                          _mm512_srai_epi32(X, 8));
+        taps[g][c].wx = _mm512_sub_epi32(
+            _mm512_add_epi32(_mm512_slli_epi32(fx, 16), _mm512_set1_epi32(256)), fx);
+        taps[g][c].fy = _mm512_and_si512(Y, m255);
+      }
+    }
+    for (int g = 0; g < groups; ++g, x += 16) {
+      __m512i ch[3];
+      for (int c = 0; c < 3; ++c) {
+        const Taps16& tp = taps[g][c];
+        const __m256i lo = _mm512_castsi512_si256(tp.idx),
+                      hi = _mm512_extracti64x4_epi64(tp.idx, 1);
+        const __m512i t0 = _mm512_i32gather_epi64(lo, a.base, 4);
+        const __m512i t1 = _mm512_i32gather_epi64(hi, a.base, 4);
+        const __m512i b0 = _mm512_i32gather_epi64(lo, a.base + a.stride, 4);
+        const __m512i b1 = _mm512_i32gather_epi64(hi, a.base + a.stride, 4);
+        const __m512i top_w = _mm512_maskz_permutex2var_epi8(even_bytes, t0, pick[c], t1);
+        const __m512i bottom_w = _mm512_maskz_permutex2var_epi8(even_bytes, b0, pick[c], b1);
+        const __m512i top = _mm512_madd_epi16(top_w, tp.wx);
+        const __m512i bottom = _mm512_madd_epi16(bottom_w, tp.wx);
+        const __m512i sum = _mm512_add_epi32(
+            _mm512_add_epi32(_mm512_slli_epi32(top, 8),
+                             _mm512_mullo_epi32(_mm512_sub_epi32(bottom, top), tp.fy)),
+            _mm512_set1_epi32(32768));
+        ch[c] = _mm512_srli_epi32(sum, 16);
+      }
+      const __m512i rg = _mm512_or_si512(ch[0], _mm512_slli_epi32(ch[1], 8));
+      const __m512i px = _mm512_ternarylogic_epi32(rg, _mm512_slli_epi32(ch[2], 16), alpha, 0xFE);
+      if (end - x >= 16) {
+        _mm512_storeu_si512(out + x, px);
+      } else {
+        const __mmask16 keep = static_cast<__mmask16>((1u << (end - x)) - 1u);
+        _mm512_mask_storeu_epi32(out + x, keep, px);
+      }
+    }
+  }
+}
+
+#pragma GCC diagnostic pop
+
 bool cpu_has_avx2() {
   static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return has;
+}
+
+bool cpu_has_avx512() {
+  static const bool has = cpu_has_avx2() && __builtin_cpu_supports("avx512f") &&
+                          __builtin_cpu_supports("avx512bw") &&
+                          __builtin_cpu_supports("avx512vbmi");
   return has;
 }
 #endif
@@ -264,8 +381,9 @@ bool sizes_fit(const LensWarp& w, const ImageRgba8& eyes, const ImageRgba8& pane
 constexpr auto kSpin = std::chrono::microseconds(200);
 
 // Waits until `a` != `old` (spinning for at most kSpin first); returns the new value.
-uint64_t wait_change(const std::atomic<uint64_t>& a, uint64_t old, bool spin) {
-  uint64_t v = a.load(std::memory_order_acquire);
+template <typename T>
+T wait_change(const std::atomic<T>& a, T old, bool spin) {
+  T v = a.load(std::memory_order_acquire);
   if (spin && v == old) {
     const auto until = std::chrono::steady_clock::now() + kSpin;
     for (int i = 0; v == old; ++i) {
@@ -285,10 +403,11 @@ uint64_t wait_change(const std::atomic<uint64_t>& a, uint64_t old, bool spin) {
 
 }  // namespace
 
-CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, bool simd, Method method)
+CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, Simd simd, Method method)
     : warp_(warp), method_(method), threads_(std::clamp(threads, 1, 2)) {
 #if HD_LENS_AVX2
-  simd_ = simd && cpu_has_avx2();
+  if (simd != Simd::kNone && cpu_has_avx2()) simd_ = Simd::kAvx2;
+  if (simd == Simd::kBest && method_ == Method::kRadial && cpu_has_avx512()) simd_ = Simd::kAvx512;
 #else
   (void)simd;
 #endif
@@ -310,28 +429,6 @@ CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, bool simd, M
       }
     }
   }
-  // Equal work for the two bands: the usable pixels, plus the black ones at an eighth.
-  std::vector<double> work(static_cast<std::size_t>(ph), 0.0);
-  double total = 0.0;
-  for (int y = 0; y < ph; ++y) {
-    double w = 0.0;
-    for (int e = 0; e < 2; ++e) {
-      const Span& s = spans_[static_cast<std::size_t>(y) * 2 + e];
-      w += (s.end - s.begin) + 0.125 * (hw - (s.end - s.begin));
-    }
-    work[static_cast<std::size_t>(y)] = w;
-    total += w;
-  }
-  split_row_ = ph / 2;
-  double acc = 0.0;
-  for (int y = 0; y < ph; ++y) {
-    acc += work[static_cast<std::size_t>(y)];
-    if (acc >= 0.5 * total) {
-      split_row_ = std::clamp(y + 1, 1, std::max(1, ph - 1));
-      break;
-    }
-  }
-
   const std::vector<double>& k = warp_.profile().coefficients;
   ratio_terms_ = std::clamp(static_cast<int>(k.size()) - 1, 1, kMaxRatioTerms);
   for (int i = 0; i < ratio_terms_; ++i)
@@ -348,6 +445,25 @@ CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, bool simd, M
     r.origin256[0] = static_cast<float>(256.0 * (warp_.eye(e).cx + e * ew - 0.5));
     r.origin256[1] = static_cast<float>(256.0 * (warp_.eye(e).cy - 0.5));
   }
+
+  // A span whose every sample point, including the extra lanes of its last group of 16, lies
+  // where the clamp leaves it unchanged runs the kernels without the clamp (the same bytes).
+  for (int y = 0; y < ph; ++y)
+    for (int e = 0; e < 2; ++e) {
+      Span& s = spans_[static_cast<std::size_t>(y) * 2 + e];
+      const float x_min = 256.0f * static_cast<float>(e * ew),
+                  x_max = 256.0f * static_cast<float>(e * ew + ew - 1);
+      const float y_max = 256.0f * static_cast<float>(warp_.eye_height() - 1);
+      const int len = s.end - s.begin;
+      bool inside = len > 0;
+      for (int x = s.begin; inside && x < s.begin + (len + 15) / 16 * 16; ++x) {
+        float X[3], Y[3];
+        radial_points(y, e, x - e * hw, X, Y);
+        for (int c = 0; c < 3; ++c)
+          inside = inside && X[c] >= x_min && X[c] < x_max && Y[c] >= 0.0f && Y[c] < y_max;
+      }
+      s.clamp_free = inside;
+    }
 
   for (int c = 0; c < 3; ++c)
     scale_fixed_[c] = static_cast<int32_t>(std::lround(warp_.channel_scale(c) * 65536.0));
@@ -388,9 +504,20 @@ void CpuPredistorter::worker_loop() {
     // Frames come a display period apart: sleep on the atomic rather than spin between them.
     seen = wait_change(job_, seen, false);
     if (quit_.load()) return;
-    band(split_row_, warp_.panel_height());
-    done_.store(seen, std::memory_order_release);
-    done_.notify_one();
+    take_rows();
+  }
+}
+
+void CpuPredistorter::take_rows() {
+  const int h = warp_.panel_height();
+  for (;;) {
+    // acq_rel: a successful claim sees the frame apply() published before resetting next_row_.
+    const int r = next_row_.fetch_add(kRowsPerTake, std::memory_order_acq_rel);
+    if (r >= h) return;
+    const int end = std::min(h, r + kRowsPerTake);
+    band(r, end);
+    if (rows_done_.fetch_add(end - r, std::memory_order_acq_rel) + (end - r) == h)
+      rows_done_.notify_one();
   }
 }
 
@@ -400,11 +527,13 @@ bool CpuPredistorter::apply(const ImageRgba8& eyes, ImageRgba8& panel) {
   panel_ = &panel;
   const int h = warp_.panel_height();
   if (threads_ == 2 && h >= 2) {
-    const uint64_t my_job = job_.fetch_add(1, std::memory_order_release) + 1;
+    rows_done_.store(0, std::memory_order_relaxed);
+    next_row_.store(0, std::memory_order_release);
+    job_.fetch_add(1, std::memory_order_release);
     job_.notify_one();
-    band(0, split_row_);
-    for (uint64_t d = done_.load(std::memory_order_acquire); d != my_job;)
-      d = wait_change(done_, d, true);
+    take_rows();
+    for (int d = rows_done_.load(std::memory_order_acquire); d != h;)
+      d = wait_change(rows_done_, d, true);
   } else {
     band(0, h);
   }
@@ -413,29 +542,38 @@ bool CpuPredistorter::apply(const ImageRgba8& eyes, ImageRgba8& panel) {
   return true;
 }
 
-void CpuPredistorter::radial_span_scalar(int y, int e, int x, int end, uint32_t* out) const {
+void CpuPredistorter::radial_points(int y, int e, int x_half, float* X, float* Y) const {
+  // The AVX2 / AVX-512 kernels' arithmetic, operation for operation (std::fma rounds once, like
+  // vfmadd; the kernels square ry in scalar code too).
   const RadialEye& r = radial_[e];
+  const float dy = static_cast<float>(y) + r.d0[1];
+  const float ry = dy * r.k[1];
+  const float ry2 = ry * ry;
+  const float dx = static_cast<float>(x_half) + r.d0[0];
+  const float rx = dx * r.k[0];
+  const float rr = std::sqrt(std::fma(rx, rx, ry2));
+  float t = ratio_[ratio_terms_ - 1];
+  for (int i = ratio_terms_ - 2; i >= 0; --i) t = std::fma(t, rr, ratio_[i]);
+  const float ax = t * dx, ay = t * dy;
+  for (int c = 0; c < 3; ++c) {
+    X[c] = std::fma(ax, r.gain256[c][0], r.origin256[0]);
+    Y[c] = std::fma(ay, r.gain256[c][1], r.origin256[1]);
+  }
+}
+
+void CpuPredistorter::radial_span_scalar(int y, int e, int x, int end, uint32_t* out) const {
   const int ew = warp_.eye_width(), half = e * warp_.eye_panel_width();
   const int x_lo = e * ew, x_hi = e * ew + ew - 1, y_hi = warp_.eye_height() - 1;
   const uint8_t* base = eyes_->data.data();
   const int stride = eyes_->stride_bytes;
-  // The AVX2 kernel's arithmetic, operation for operation (std::fma rounds once, like vfmadd).
-  const float dy = static_cast<float>(y) + r.d0[1];
-  const float ry = dy * r.k[1];
-  const float ry2 = ry * ry;
   for (; x < end; ++x) {
-    const float dx = static_cast<float>(x - half) + r.d0[0];
-    const float rx = dx * r.k[0];
-    const float rr = std::sqrt(std::fma(rx, rx, ry2));
-    float t = ratio_[ratio_terms_ - 1];
-    for (int i = ratio_terms_ - 2; i >= 0; --i) t = std::fma(t, rr, ratio_[i]);
-    const float ax = t * dx, ay = t * dy;
+    float X[3], Y[3];
+    radial_points(y, e, x - half, X, Y);
     uint32_t px = 0xFF000000u;
-    for (int c = 0; c < 3; ++c) {
-      const int X = static_cast<int>(std::fma(ax, r.gain256[c][0], r.origin256[0]));
-      const int Y = static_cast<int>(std::fma(ay, r.gain256[c][1], r.origin256[1]));
-      px |= sample_fixed(base, stride, X, Y, c, x_lo, x_hi, y_hi) << (8 * c);
-    }
+    for (int c = 0; c < 3; ++c)
+      px |= sample_fixed(base, stride, static_cast<int>(X[c]), static_cast<int>(Y[c]), c, x_lo,
+                         x_hi, y_hi)
+            << (8 * c);
     out[x] = px;
   }
 }
@@ -472,7 +610,7 @@ void CpuPredistorter::band(int row_begin, int row_end) {
       for (; x < s.begin; ++x) out[x] = 0xFF000000u;  // opaque black (RGBA bytes 0, 0, 0, 255)
       if (method_ == Method::kRadial) {
 #if HD_LENS_AVX2
-        if (simd_) {
+        if (simd_ != Simd::kNone) {
           const RadialEye& r = radial_[e];
           const float dy = static_cast<float>(y) + r.d0[1];
           const float ry = dy * r.k[1];
@@ -489,14 +627,19 @@ void CpuPredistorter::band(int row_begin, int row_end) {
                              e * ew,
                              e * ew + ew - 1,
                              warp_.eye_height() - 1};
-          radial_span_avx2(a, out, x, s.end, e * hw);
+          if (simd_ == Simd::kAvx512)
+            (s.clamp_free ? radial_span_avx512<false> : radial_span_avx512<true>)(a, out, x, s.end,
+                                                                                  e * hw);
+          else
+            (s.clamp_free ? radial_span_avx2<false> : radial_span_avx2<true>)(a, out, x, s.end,
+                                                                              e * hw);
           x = s.end;
         }
 #endif
         radial_span_scalar(y, e, x, s.end, out);
       } else {
 #if HD_LENS_AVX2
-        if (simd_) {
+        if (simd_ != Simd::kNone) {
           const int32_t* pos =
               positions_.data() + static_cast<std::size_t>(y) * warp_.panel_width() * 2;
           x = span_avx2(eyes_->data.data(), eyes_->stride_bytes, pos, out, x, s.end,
@@ -512,19 +655,18 @@ void CpuPredistorter::band(int row_begin, int row_end) {
   }
 }
 
+int CpuPredistorter::clamp_free_spans() const {
+  return static_cast<int>(
+      std::count_if(spans_.begin(), spans_.end(), [](const Span& s) { return s.clamp_free; }));
+}
+
 void CpuPredistorter::sample_point(int e, int x, int y, int c, double* u, double* v) const {
   const int ew = warp_.eye_width();
   if (method_ == Method::kRadial) {
-    const RadialEye& r = radial_[e];
-    const float dy = static_cast<float>(y) + r.d0[1];
-    const float ry = dy * r.k[1];
-    const float dx = static_cast<float>(x) + r.d0[0];
-    const float rx = dx * r.k[0];
-    const float rr = std::sqrt(std::fma(rx, rx, ry * ry));
-    float t = ratio_[ratio_terms_ - 1];
-    for (int i = ratio_terms_ - 2; i >= 0; --i) t = std::fma(t, rr, ratio_[i]);
-    *u = std::fma(t * dx, r.gain256[c][0], r.origin256[0]) / 256.0 + 0.5 - e * ew;
-    *v = std::fma(t * dy, r.gain256[c][1], r.origin256[1]) / 256.0 + 0.5;
+    float X[3], Y[3];
+    radial_points(y, e, x, X, Y);
+    *u = X[c] / 256.0 + 0.5 - e * ew;
+    *v = Y[c] / 256.0 + 0.5;
     return;
   }
   const std::size_t i =

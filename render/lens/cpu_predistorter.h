@@ -30,16 +30,18 @@ namespace hd::render::lens {
 ///    offset from the eye's principal point scaled by aberration[c] / aberration[G] in 16.16
 ///    fixed point.
 ///
-/// apply() allocates nothing; with threads = 2 the rows are split into two bands of equal work
-/// (usable pixels), one done by a persistent worker woken through an atomic; the caller spins
-/// briefly for the worker's band before it sleeps on the atomic.
+/// apply() allocates nothing; with threads = 2 the caller and a persistent worker (woken through
+/// an atomic) claim rows four at a time from a shared counter, so the work splits evenly whatever
+/// the rows cost and however late the worker wakes (or, on a busy machine, the caller does them
+/// all); the caller spins briefly for the last rows before it sleeps on the atomic.
 class CpuPredistorter {
  public:
   enum class Method { kRadial, kPositionTable };
+  /// Row kernels, all giving the same bytes: kBest takes the widest the CPU has (kRadial has an
+  /// AVX-512 F/BW/VBMI one, both methods an AVX2 + FMA one), kAvx2 at most AVX2, kNone scalar.
+  enum class Simd { kNone, kAvx2, kAvx512, kBest };
 
-  /// `simd`: use the AVX2 row kernel when the CPU has AVX2 and FMA (the same bytes as the scalar
-  /// one).
-  CpuPredistorter(const LensWarp& warp, int threads = 1, bool simd = true,
+  CpuPredistorter(const LensWarp& warp, int threads = 1, Simd simd = Simd::kBest,
                   Method method = Method::kRadial);
   ~CpuPredistorter();
   CpuPredistorter(const CpuPredistorter&) = delete;
@@ -60,12 +62,15 @@ class CpuPredistorter {
 
   const LensWarp& warp() const { return warp_; }
   Method method() const { return method_; }
-  /// The first row of the worker's band (threads = 2), chosen for equal numbers of usable pixels.
-  int split_row() const { return split_row_; }
+  /// The row kernel in use (kNone, kAvx2 or kAvx512).
+  Simd simd() const { return simd_; }
+  /// How many (row, eye) spans run the kernels without the clamp (kRadial; for the tests).
+  int clamp_free_spans() const;
 
  private:
   struct Span {
-    int begin = 0, end = 0;  ///< usable panel columns [begin, end) of one eye in one row
+    int begin = 0, end = 0;   ///< usable panel columns [begin, end) of one eye in one row
+    bool clamp_free = false;  ///< kRadial: no sample point of the kernels' groups needs the clamp
   };
   /// kRadial's constants of one eye, single precision (the kernels' arithmetic):
   /// d = float(column in the half) + d0, r = sqrt(fma(d.x k.x, d.x k.x, (d.y k.y)^2)),
@@ -79,14 +84,19 @@ class CpuPredistorter {
   static constexpr int kMaxRatioTerms = 11;  ///< HmdProfile allows 12 coefficients
 
   void band(int row_begin, int row_end);
+  /// kRadial's fixed-point sample points (before truncation) of half column x_half, channels
+  /// R, G, B: the arithmetic of every kernel.
+  void radial_points(int y, int eye, int x_half, float* X, float* Y) const;
   void radial_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
   void table_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
   void worker_loop();
+  /// Claims kRowsPerTake rows at a time from next_row_ until none are left (both threads).
+  void take_rows();
+  static constexpr int kRowsPerTake = 4;
 
   LensWarp warp_;
   Method method_ = Method::kRadial;
   std::vector<Span> spans_;  ///< [row * 2 + eye]
-  int split_row_ = 0;
 
   RadialEye radial_[2];
   float ratio_[kMaxRatioTerms] = {};  ///< ratio(r) = sum ratio_[i] r^i (coefficients[i + 1])
@@ -101,12 +111,13 @@ class CpuPredistorter {
   const ImageRgba8* eyes_ = nullptr;  ///< valid during apply only
   ImageRgba8* panel_ = nullptr;
 
-  bool simd_ = false;
+  Simd simd_ = Simd::kNone;
   int threads_ = 1;
   std::thread worker_;
-  // Each on its own cache line: the caller writes job_ while the worker writes done_.
+  // Each on its own cache line: both threads claim rows and count them done at the same time.
   alignas(64) std::atomic<uint64_t> job_{0};
-  alignas(64) std::atomic<uint64_t> done_{0};
+  alignas(64) std::atomic<int> next_row_{1 << 30};  ///< nothing to claim outside apply()
+  alignas(64) std::atomic<int> rows_done_{0};
   alignas(64) std::atomic<bool> quit_{false};
 };
 

@@ -113,13 +113,17 @@ void add_cameras(StationParts& p, const StationConfig& config) {
     const std::string label = cc.name + " (" + cc.id + ")";
     std::unique_ptr<drivers::CameraSource> device;
     try {
-      if (!cc.key_file.empty()) {
+      if (!cc.key_file.empty() || cc.clock_synchronized) {
         std::string why;
         drivers::RtpReceiveConfig rc;
         const auto address = drivers::parse_rtp_uri(cc.id, why);
         if (!address) throw std::invalid_argument("malformed id " + cc.id + ": " + why);
         rc.listen = *address;
-        rc.srtp_key = drivers::read_srtp_key_file(cc.key_file);
+        if (!cc.key_file.empty()) rc.srtp_key = drivers::read_srtp_key_file(cc.key_file);
+        if (cc.clock_synchronized) {
+          rc.clock = drivers::RtpReceiveConfig::Clock::kSynchronized;
+          rc.clock_error_ns = static_cast<int64_t>(cc.clock_error_ms * 1e6);
+        }
         device = std::make_unique<drivers::RtpCamera>(std::move(rc));
       } else {
         device = calib::make_camera_source(cc.id);

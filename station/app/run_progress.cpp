@@ -23,9 +23,13 @@ void RunProgress::frame_done(core::Variant variant, uint64_t frames, uint64_t mi
   std::fprintf(out_,
                "  [%6.0f s] frames %" PRIu64 ", missed deadlines %" PRIu64
                " (%.2f %%); video %" PRIu64 " / hybrid %" PRIu64 " / synthetic %" PRIu64
-               " frames; resident %.1f MiB\n",
+               " frames; resident %.1f MiB",
                1e-9 * static_cast<double>(now_ns - start_ns_), frames, missed, pct, variants_[0],
                variants_[1], variants_[2], rss >= 0 ? static_cast<double>(rss) / 1024.0 : NAN);
+  if (have_model_)
+    std::fprintf(out_, "; model updates %" PRIu64 ", stereo reconstructions %" PRIu64,
+                 model_updates_, reconstructions_);
+  std::fputc('\n', out_);
   std::fflush(out_);
 }
 

@@ -58,6 +58,14 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  n.frames_stamped, n.frames_unstamped, n.pli_sent, n.nack_sent, n.rtx_received,
                  n.view_feedback_sent, n.need_changes,
                  n.last_error.empty() ? "" : "; last error: ", n.last_error.c_str());
+  for (const RunSummary::NetworkCamera& n : s.network_cameras)
+    std::fprintf(out,
+                 "  network camera %-12s clock %s: offset %.3f ms +- %.3f ms (round trip %.3f ms,"
+                 " %" PRIu64 " samples, %" PRIu64 " sender reports), %" PRIu64
+                 " capture times after arrival\n",
+                 n.camera.c_str(), n.clock_mapping.c_str(), double(n.clock_offset_ns) * 1e-6,
+                 double(n.clock_uncertainty_ns) * 1e-6, double(n.clock_round_trip_ns) * 1e-6,
+                 n.clock_samples, n.sender_reports, n.capture_after_arrival);
   for (std::size_t i = 0; i < s.camera_unusable.size() && i < s.camera_names.size(); ++i) {
     double total_s = 0.0;
     for (const UnusableInterval& u : s.camera_unusable[i])
@@ -166,6 +174,16 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                        {"view_feedback_sent", n.view_feedback_sent},
                        {"need_changes", n.need_changes},
                        {"last_error", n.last_error}});
+  for (std::size_t i = 0; i < s.network_cameras.size(); ++i) {
+    const RunSummary::NetworkCamera& n = s.network_cameras[i];
+    network[i]["clock"] = {{"mapping", n.clock_mapping},
+                           {"offset_ns", n.clock_offset_ns},
+                           {"uncertainty_ns", n.clock_uncertainty_ns},
+                           {"round_trip_ns", n.clock_round_trip_ns},
+                           {"samples", n.clock_samples},
+                           {"sender_reports", n.sender_reports},
+                           {"capture_after_arrival", n.capture_after_arrival}};
+  }
   j["network_cameras"] = network;
   j["head"] = {{"accepted", s.pose_accepted},
                {"rejected", s.pose_rejected},

@@ -39,6 +39,11 @@ struct RunSummary {
     /// often the camera's need changed.
     uint64_t rtx_received = 0, view_feedback_sent = 0, need_changes = 0;
     std::string last_error;
+    /// The sender-clock mapping at the end (drivers/rtp/clock_offset_estimator.h):
+    /// capture_mono = sender_unix + clock_offset_ns, within ±clock_uncertainty_ns (-1 unknown).
+    std::string clock_mapping;
+    int64_t clock_offset_ns = 0, clock_uncertainty_ns = -1, clock_round_trip_ns = -1;
+    uint64_t clock_samples = 0, sender_reports = 0, capture_after_arrival = 0;
   };
   std::vector<NetworkCamera> network_cameras;
   std::string cameras_from;  ///< --cameras-from ("": the scene's cameras simulated in-process)

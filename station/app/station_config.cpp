@@ -43,6 +43,14 @@ CameraConfig read_camera(const sim::YamlFields& f, std::size_t index) {
       f.fail("key_file", "only a network camera (id rtp://HOST:PORT) takes a key file");
     c.key_file = *k;
   }
+  const bool network = c.id.rfind("rtp://", 0) == 0;
+  const std::string clock = f.optional_string("clock", "measured");
+  if (clock != "measured" && clock != "synchronized")
+    f.fail("clock", "'" + clock + "'; expected measured or synchronized");
+  if (clock == "synchronized" && !network)
+    f.fail("clock", "only a network camera (id rtp://HOST:PORT) has a sender clock");
+  c.clock_synchronized = clock == "synchronized";
+  c.clock_error_ms = f.optional_double("clock_error_ms", 1.0, Range::closed(0.0, 10'000.0));
   std::optional<core::Pose> pose_override;
   if (auto p = f.optional_map("pose")) pose_override = read_pose(*p);
   f.finish();

@@ -33,6 +33,12 @@ struct CameraConfig {
   /// A network camera's pre-shared SRTP key file (resolved; "" = no encryption). Its stream
   /// must then be SRTP with this key; anything else is rejected and counted.
   std::string key_file;
+  /// A network camera's clocks: false (`clock: measured`, the default) maps the sender's capture
+  /// times through the offset measured from its RTCP sender reports and round trip; true
+  /// (`clock: synchronized`, sites with chrony/PTP) through this host's CLOCK_REALTIME, with
+  /// `clock_error_ms` (default 1) as the uncertainty.
+  bool clock_synchronized = false;
+  double clock_error_ms = 1.0;
   int line = 0;  ///< where it is in station.yaml, for messages
 };
 

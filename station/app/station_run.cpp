@@ -286,6 +286,10 @@ int run(const RunOptions& o) {
     // Between frames, outside the counted tick: progress, the HUD text (OpenCV may allocate), the
     // keys.
     const int64_t now = clock.now_ns();
+    if (p.updater) {
+      const station::ModelUpdaterStats ms = p.updater->stats();
+      progress.model_done(ms.updates, ms.reconstructions);
+    }
     progress.frame_done(frame.last_row().variant, loop.frames(), loop.missed_deadlines(), now);
     camera_events.poll(event_sources, p.camera_names);
     usability.poll(frame, p.camera_names);
@@ -368,6 +372,13 @@ int run(const RunOptions& o) {
     n.view_feedback_sent = fb.view_feedback_sent;
     n.need_changes = i < need_changes.size() ? need_changes[i] : 0;
     n.last_error = st.last_error;
+    n.clock_mapping = drivers::to_string(st.clock.kind);
+    n.clock_offset_ns = st.clock.offset_ns;
+    n.clock_uncertainty_ns = st.clock.uncertainty_ns;
+    n.clock_round_trip_ns = st.clock.round_trip_ns;
+    n.clock_samples = st.clock.samples;
+    n.sender_reports = st.sender_reports;
+    n.capture_after_arrival = st.capture_after_arrival;
     s.network_cameras.push_back(n);
   }
   s.cameras_from = p.cameras_from;

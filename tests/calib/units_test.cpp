@@ -10,6 +10,7 @@
 #include "calib/coverage.h"
 #include "calib/cross_validation.h"
 #include "calib/image_set.h"
+#include "calib/larger_board_probe.h"
 #include "calib/live_capture.h"
 #include "test_support.h"
 
@@ -255,6 +256,59 @@ TEST(OutlierViews, NeedAnAbsoluteFloorAsWellAsARelativeOne) {
   // above the median (above the floor) and beyond mean + 3 sigma.
   const std::vector<double> real = {0.30, 0.31, 0.29, 0.30, 0.32, 0.28, 0.30, 0.31, 0.29, 0.75};
   EXPECT_TRUE(outlier_views(real).back());
+}
+
+}  // namespace
+}  // namespace hd::calib::test
+
+namespace hd::calib::test {
+namespace {
+
+// A fronto-parallel board drawn square by square: inner corners cols x rows at (x0 + 30 c,
+// y0 + 30 r), one square of white margin, then `surround` grey.
+cv::Mat drawn_board(int cols, int rows, uchar surround) {
+  cv::Mat g(480, 640, CV_8UC1, cv::Scalar(surround));
+  const int s = 30, x0 = 120, y0 = 90;
+  cv::rectangle(g, cv::Rect(x0 - 2 * s, y0 - 2 * s, (cols + 3) * s, (rows + 3) * s),
+                cv::Scalar(230), cv::FILLED);
+  for (int r = -1; r < rows; ++r)
+    for (int c = -1; c < cols; ++c)
+      if (((r + c) & 1) == 0)
+        cv::rectangle(g, cv::Rect(x0 + c * s, y0 + r * s, s, s), cv::Scalar(25), cv::FILLED);
+  cv::GaussianBlur(g, g, cv::Size(0, 0), 1.0);
+  return g;
+}
+
+std::vector<cv::Point2f> drawn_corners(int cols, int rows, int c0 = 0, int r0 = 0) {
+  std::vector<cv::Point2f> v;
+  for (int r = r0; r < r0 + rows; ++r)
+    for (int c = c0; c < c0 + cols; ++c)
+      v.emplace_back(120.f + 30.f * static_cast<float>(c) - 0.5f,
+                     90.f + 30.f * static_cast<float>(r) - 0.5f);
+  return v;
+}
+
+// The probe against boards whose extent is known by construction: the whole 10x7 board does not
+// continue (margin or plain surround), any 9x6 part of it does, and a pattern it cannot judge
+// asks for the expensive check.
+TEST(LargerBoardProbe, ContinuesExactlyWhereTheDrawnBoardDoes) {
+  const Board whole = Board::parse("10x7", 0.03), part = Board::parse("9x6", 0.03);
+  for (const uchar surround : {uchar{128}, uchar{230}, uchar{20}}) {
+    const cv::Mat g = drawn_board(10, 7, surround);
+    const LargerBoardProbe p = probe_beyond_edges(g, whole, drawn_corners(10, 7));
+    EXPECT_FALSE(p.continues) << int(surround);
+    EXPECT_EQ(p.sides_sampled, 4);
+    for (const auto& [c0, r0] :
+         {std::pair{0, 0}, std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}})
+      EXPECT_TRUE(probe_beyond_edges(g, part, drawn_corners(9, 6, c0, r0)).continues)
+          << int(surround) << " part at " << c0 << "," << r0;
+  }
+  const cv::Mat g = drawn_board(10, 7, 128);
+  EXPECT_TRUE(probe_beyond_edges(g, whole, {}).continues);  // wrong corner count
+  const std::vector<cv::Point2f> same(70, cv::Point2f(300, 200));
+  EXPECT_TRUE(probe_beyond_edges(g, whole, same).continues);  // degenerate grid
+  const cv::Mat flat(480, 640, CV_8UC1, cv::Scalar(100));     // no checker to compare with
+  EXPECT_TRUE(probe_beyond_edges(flat, whole, drawn_corners(10, 7)).continues);
 }
 
 }  // namespace

@@ -79,7 +79,8 @@ TEST(CpuPredistorter, SamplePointsMatchTheLensModel) {
     HmdProfile p = load_hmd_profile(kDir + name);
     p.aberration = {0.985, 1.0, 1.015};
     const LensWarp w(p);
-    const CpuPredistorter radial(w, 1), table(w, 1, true, CpuPredistorter::Method::kPositionTable);
+    const CpuPredistorter radial(w, 1),
+        table(w, 1, CpuPredistorter::Simd::kBest, CpuPredistorter::Method::kPositionTable);
     double worst_radial = 0, worst_table = 0;
     int n = 0;
     for (int e = 0; e < 2; ++e)
@@ -100,21 +101,42 @@ TEST(CpuPredistorter, SamplePointsMatchTheLensModel) {
   }
 }
 
+// Every kernel this CPU has (AVX2, and AVX-512 for kRadial), 1 and 2 threads, against the
+// scalar rows; the OSVR profile's spans run without the clamp, the DK1's rim spans (cut by its
+// usable radius) with it.
 TEST(CpuPredistorter, RowKernelGivesTheScalarBytes) {
-  HmdProfile p = load_hmd_profile(kDir + "osvr-hdk-1.3.yaml");
-  p.aberration = {0.985, 1.0, 1.015};  // R and B off green: every path of the kernel
-  const LensWarp w(p);
-  const ImageRgba8 eyes = eyes_picture(w, true);
-  ImageRgba8 a, b;
-  a.allocate(w.panel_width(), w.panel_height());
-  b.allocate(w.panel_width(), w.panel_height());
-  for (const auto method :
-       {CpuPredistorter::Method::kRadial, CpuPredistorter::Method::kPositionTable}) {
-    CpuPredistorter simd(w, 2, true, method), scalar(w, 1, false, method);
-    ASSERT_TRUE(simd.apply(eyes, a));
-    ASSERT_TRUE(scalar.apply(eyes, b));
-    EXPECT_EQ(a.data, b.data) << "method " << static_cast<int>(method);
+  using Simd = CpuPredistorter::Simd;
+  int clamp_free = 0, clamped = 0;
+  for (const char* name : {"osvr-hdk-1.3.yaml", "oculus-dk1.yaml"}) {
+    HmdProfile p = load_hmd_profile(kDir + name);
+    p.aberration = {0.985, 1.0, 1.015};  // R and B off green: every path of the kernels
+    const LensWarp w(p);
+    const ImageRgba8 eyes = eyes_picture(w, true);
+    ImageRgba8 a, b;
+    a.allocate(w.panel_width(), w.panel_height());
+    b.allocate(w.panel_width(), w.panel_height());
+    for (const auto method :
+         {CpuPredistorter::Method::kRadial, CpuPredistorter::Method::kPositionTable}) {
+      CpuPredistorter scalar(w, 1, Simd::kNone, method);
+      ASSERT_EQ(scalar.simd(), Simd::kNone);
+      ASSERT_TRUE(scalar.apply(eyes, b));
+      if (method == CpuPredistorter::Method::kRadial) {
+        clamp_free += scalar.clamp_free_spans();
+        clamped += 2 * w.panel_height() - scalar.clamp_free_spans();
+      }
+      for (const Simd level : {Simd::kAvx2, Simd::kBest})
+        for (int threads : {1, 2}) {
+          CpuPredistorter simd(w, threads, level, method);
+          std::fill(a.data.begin(), a.data.end(), 0);
+          ASSERT_TRUE(simd.apply(eyes, a));
+          EXPECT_EQ(a.data, b.data)
+              << name << ", method " << static_cast<int>(method) << ", kernel "
+              << static_cast<int>(simd.simd()) << ", threads " << threads;
+        }
+    }
   }
+  EXPECT_GT(clamp_free, 100);
+  EXPECT_GT(clamped, 100);
 }
 
 TEST(CpuPredistorter, ApplyAllocatesNothingAndRefusesWrongSizes) {

@@ -161,6 +161,21 @@ TEST_F(StationConfigTest, DefaultsWhenOptionalSectionsAreAbsent) {
   EXPECT_TRUE(c.T_world_tracker.R.isIdentity());
 }
 
+TEST_F(StationConfigTest, ANetworkCameraCanDeclareSynchronizedClocksWithTheirError) {
+  const std::string tail = "tracker: {id: mock}\nworkspace: {min_m: [0, 0, 0], max_m: [1, 1, 1]}\n";
+  const StationConfig c = parse_station_config(
+      "cameras:\n"
+      "  - {id: rtp://127.0.0.1:5600, calibration: cam.yaml, d_m: 1, clock: synchronized,"
+      " clock_error_ms: 2.5}\n"
+      "  - {id: rtp://127.0.0.1:5602, calibration: cam.yaml, d_m: 1}\n" +
+          tail,
+      path("station.yaml"));
+  ASSERT_EQ(c.cameras.size(), 2u);
+  EXPECT_TRUE(c.cameras[0].clock_synchronized);
+  EXPECT_DOUBLE_EQ(c.cameras[0].clock_error_ms, 2.5);
+  EXPECT_FALSE(c.cameras[1].clock_synchronized);  // measured by default
+}
+
 struct Broken {
   const char* what;
   const char* field;  ///< expected ConfigError::field()
@@ -202,6 +217,16 @@ std::vector<Broken> broken_snippets() {
        cam + tail + "marking: {stale_fade: 2}   # <-\n"},
       {"max_video_age_ms not a number", "cameras[0].max_video_age_ms",
        cam + "    max_video_age_ms: soon   # <-\n" + tail},
+      {"unknown clock", "cameras[0].clock",
+       "cameras:\n  - id: rtp://127.0.0.1:5600\n    calibration: cam.yaml\n    d_m: 1\n"
+       "    clock: guessed   # <-\n" +
+           tail},
+      {"a local camera has no sender clock", "cameras[0].clock",
+       cam + "    clock: synchronized   # <-\n" + tail},
+      {"negative clock error", "cameras[0].clock_error_ms",
+       "cameras:\n  - id: rtp://127.0.0.1:5600\n    calibration: cam.yaml\n    d_m: 1\n"
+       "    clock: synchronized\n    clock_error_ms: -1   # <-\n" +
+           tail},
   };
 }
 

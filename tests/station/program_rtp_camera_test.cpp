@@ -171,6 +171,10 @@ TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
   EXPECT_EQ(n["malformed_packets"].get<uint64_t>(), 0u);
   EXPECT_EQ(n["frames_with_capture_time"].get<uint64_t>(), 0u);  // a plain sender stamps none
   EXPECT_GT(n["frames_with_arrival_time"].get<uint64_t>(), 0u);
+  // No RTCP, so no sender report: the sender clock is never measured, and the summary says so.
+  EXPECT_EQ(n["clock"]["mapping"].get<std::string>().rfind("unmeasured", 0), 0u) << n.dump();
+  EXPECT_EQ(n["clock"]["sender_reports"].get<uint64_t>(), 0u);
+  EXPECT_EQ(n["clock"]["uncertainty_ns"].get<int64_t>(), -1);
   if (!::testing::Test::HasFailure()) fs::remove_all(dir);
 }
 
