@@ -16,7 +16,9 @@
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/gstreamer_init.h"
 #include "drivers/rtp/h264_payload.h"
+#include "drivers/rtp/rtp_aux_bin.h"
 #include "drivers/rtp/rtp_receive_pipeline.h"
+#include "drivers/rtp/view_feedback.h"
 
 namespace hd::drivers {
 namespace {
@@ -120,6 +122,45 @@ void RtpCamera::build() {
   gst_pipeline_use_clock(GST_PIPELINE(pipeline_), clock);
   gst_object_unref(clock);
 
+  {  // RTX: answer rtpbin's request for an aux receiver, then request the pad that asks for it
+    GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpBin);
+    if (config_.retransmission)
+      g_signal_connect(rtpbin, "request-aux-receiver",
+                       G_CALLBACK(+[](GstElement*, guint session, gpointer self) {
+                         auto* me = static_cast<RtpCamera*>(self);
+                         return make_rtp_aux_bin(rtx_receive_description(me->config_), session);
+                       }),
+                       this);
+    if (config_.retransmission)
+      g_signal_connect(rtpbin, "new-jitterbuffer",
+                       G_CALLBACK(+[](GstElement*, GstElement* jb, guint, guint, gpointer self) {
+                         const RtpReceiveConfig& c = static_cast<RtpCamera*>(self)->config_;
+                         g_object_set(jb, "rtx-delay", c.rtx_delay_ms, "rtx-delay-reorder",
+                                      c.rtx_delay_reorder, nullptr);
+                       }),
+                       this);
+    GstElement* session = nullptr;  // session 0 exists: the RTCP pads created it
+    g_signal_emit_by_name(rtpbin, "get-session", 0u, &session);
+    if (session != nullptr) {
+      g_object_set(session, "rtcp-fraction",
+                   static_cast<gdouble>(config_.rtcp_bandwidth_bytes_per_s), nullptr);
+      gst_object_unref(session);
+    }
+    const MediaLink from = receive_media_link(config_);
+    GstElement* last = gst_bin_get_by_name(GST_BIN(pipeline_), from.element);
+    const gboolean linked = gst_element_link_pads(last, from.pad, rtpbin, "recv_rtp_sink_0");
+    gst_object_unref(last);
+    gst_object_unref(rtpbin);
+    GstElement* rtx = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtxReceive);
+    const bool rtx_ok = !config_.retransmission || rtx != nullptr;
+    if (rtx != nullptr) gst_object_unref(rtx);  // the pipeline keeps it; looked up by name
+    if (!linked || !rtx_ok) {
+      teardown();
+      throw DeviceError("camera " + id() + ": cannot link the receive pipeline to rtpbin" +
+                        (config_.retransmission ? " (with its RTX aux receiver)" : ""));
+    }
+  }
+
   GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpSource);
   GstPad* pad = gst_element_get_static_pad(src, "src");
   gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::rtp_probe_cb, this, nullptr);
@@ -179,6 +220,25 @@ void RtpCamera::build() {
   GstElement* depay = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kDepayloader);
   pad = gst_element_get_static_pad(depay, "sink");
   gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &RtpCamera::depay_probe_cb, this, nullptr);
+  gst_object_unref(pad);
+  pad = gst_element_get_static_pad(depay, "src");  // access units: key frames are not delta units
+  gst_pad_add_probe(
+      pad, GST_PAD_PROBE_TYPE_BUFFER,
+      [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+        auto* me = static_cast<RtpCamera*>(self);
+        GstBuffer* b = GST_PAD_PROBE_INFO_BUFFER(info);
+        if (GST_BUFFER_FLAG_IS_SET(b, GST_BUFFER_FLAG_DELTA_UNIT)) return GST_PAD_PROBE_OK;
+        int64_t capture = 0;
+        {
+          std::lock_guard lock(me->stamp_mutex_);
+          for (const StampSlot& slot : me->stamps_)
+            if (slot.pts == GST_BUFFER_PTS(b)) capture = slot.capture_mono_ns;
+        }
+        me->last_key_capture_ns_.store(capture, std::memory_order_relaxed);
+        me->key_frames_.fetch_add(1, std::memory_order_release);
+        return GST_PAD_PROBE_OK;
+      },
+      this, nullptr);
   gst_object_unref(pad);
   gst_object_unref(depay);
 
@@ -276,6 +336,7 @@ void RtpCamera::bus_loop() {
       restart_at_ns = monotonic_now_ns() + 500'000'000;
       continue;
     }
+    send_view_feedback();
     const SourceState s = state_.load(std::memory_order_acquire);
     if (s == SourceState::kStreaming &&
         monotonic_now_ns() - last_frame_ns_.load(std::memory_order_relaxed) >
@@ -352,6 +413,10 @@ GstPadProbeReturn RtpCamera::rtcp_probe_cb(GstPad*, GstPadProbeInfo* info, gpoin
     g_signal_emit_by_name(sink, "add", host, port);
     gst_object_unref(sink);
     me->feedback_targets_.fetch_add(1, std::memory_order_relaxed);
+    std::lock_guard lock(me->view_mutex_);
+    me->view_host_ = host;
+    me->view_port_ = port;
+    me->view_sent_ns_ = 0;  // a new sender hears the station's view at once
   }
   g_free(host);
   return GST_PAD_PROBE_OK;
@@ -666,7 +731,15 @@ void RtpCamera::on_sample(GstElement* sink) {
 RtpCamera::Feedback RtpCamera::feedback() const {
   Feedback f;
   f.key_frame_requests = key_frame_requests_.load(std::memory_order_relaxed);
+  f.view_feedback_sent = view_sent_.load(std::memory_order_relaxed);
   if (pipeline_ == nullptr) return f;
+  if (GstElement* rtx = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtxReceive)) {
+    guint requests = 0, packets = 0;
+    g_object_get(rtx, "num-rtx-requests", &requests, "num-rtx-packets", &packets, nullptr);
+    gst_object_unref(rtx);
+    f.rtx_requested = requests;
+    f.rtx_received = packets;
+  }
   GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtpBin);
   GObject* session = nullptr;
   g_signal_emit_by_name(rtpbin, "get-internal-session", 0u, &session);
@@ -700,6 +773,50 @@ RtpCamera::Feedback RtpCamera::feedback() const {
   return f;
 }
 
+void RtpCamera::set_view_needed(bool needed) {
+  view_need_.store(needed ? 1 : 0, std::memory_order_relaxed);
+}
+
+// Bus thread: the pipeline (and its RTCP socket) is stable here.
+void RtpCamera::send_view_feedback() {
+  const int need = view_need_.load(std::memory_order_relaxed);
+  std::lock_guard lock(view_mutex_);
+  const int64_t now = monotonic_now_ns();
+  // A change goes out at once (this thread's next turn, <= 100 ms), the same state every 0.5 s
+  // (the sender falls back to full rate after 2 s without any).
+  if (need < 0 || view_port_ == 0 || pipeline_ == nullptr ||
+      (need == view_sent_need_ && view_sent_ns_ != 0 && now - view_sent_ns_ < 500'000'000))
+    return;
+  GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kRtcpSource);
+  GSocket* socket = nullptr;
+  g_object_get(src, "used-socket", &socket, nullptr);
+  gst_object_unref(src);
+  if (socket == nullptr) return;
+  GSocketAddress* to = g_inet_socket_address_new_from_string(view_host_.c_str(), view_port_);
+  uint8_t packet[kViewFeedbackSize];
+  write_view_feedback({0, need == 1, ++view_sequence_},
+                      std::span<uint8_t, kViewFeedbackSize>(packet));
+  if (to != nullptr && g_socket_send_to(socket, to, reinterpret_cast<const gchar*>(packet),
+                                        sizeof packet, nullptr, nullptr) == gssize(sizeof packet))
+    view_sent_.fetch_add(1, std::memory_order_relaxed);
+  view_sent_ns_ = now;
+  view_sent_need_ = need;
+  if (to != nullptr) g_object_unref(to);
+  g_object_unref(socket);
+}
+
+bool RtpCamera::request_key_frame() {
+  if (pipeline_ == nullptr) return false;
+  GstElement* depay = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kDepayloader);
+  GstPad* pad = gst_element_get_static_pad(depay, "sink");
+  const gboolean sent = gst_pad_push_event(
+      pad, gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 0));
+  gst_object_unref(pad);
+  gst_object_unref(depay);
+  if (sent) key_frame_requests_.fetch_add(1, std::memory_order_relaxed);
+  return sent;
+}
+
 bool RtpCamera::set_netsim_drop_probability(double p) {
   if (pipeline_ == nullptr || !config_.netsim()) return false;
   GstElement* n = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kNetsim);
@@ -727,6 +844,8 @@ RtpCameraStats RtpCamera::stats() const {
   s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
   s.bus_errors = bus_errors_.load(std::memory_order_relaxed);
   s.restarts = restarts_.load(std::memory_order_relaxed);
+  s.key_frames = key_frames_.load(std::memory_order_acquire);
+  s.last_key_frame_capture_ns = last_key_capture_ns_.load(std::memory_order_relaxed);
   s.stamped_frames = stamped_.load(std::memory_order_relaxed);
   s.unstamped_frames = unstamped_.load(std::memory_order_relaxed);
   s.capture_after_arrival = capture_after_arrival_.load(std::memory_order_relaxed);

@@ -80,6 +80,10 @@ struct RtpCameraStats {
   int last_camera_index = -1;  ///< from the camera-state element; -1 none seen
   int64_t last_calibration_revision = -1;
   uint64_t restarts = 0;
+  /// Decoded key frames (IDR access units out of the depayloader), and the newest one's capture
+  /// time (0: none or unstamped).
+  uint64_t key_frames = 0;
+  int64_t last_key_frame_capture_ns = 0;
   std::string last_error;       ///< the newest bus error's text ("" none)
   ClockMapping clock;           ///< the sender-clock mapping in use now
   uint64_t sender_reports = 0;  ///< RTCP sender reports received (clock samples)
@@ -148,8 +152,25 @@ class RtpCamera final : public CameraSource {
     /// Key frames this camera asked for itself when packets came back after a stall (each
     /// becomes an RTCP PLI); the depayloader asks on its own on every detected loss.
     uint64_t key_frame_requests = 0;
+    /// RTX (this pipeline's rtprtxreceive): packets the jitter buffer asked to be sent again,
+    /// and retransmissions (RFC 4588 packets of the RTX payload type) received.
+    uint64_t rtx_requested = 0;
+    uint64_t rtx_received = 0;
+    uint64_t view_feedback_sent = 0;  ///< HDBW messages sent (set_view_needed)
   };
   Feedback feedback() const;
+  /// Asks the sender for a key frame now: an upstream force-key-unit event from the
+  /// depayloader, which rtpbin sends as an RTCP PLI. False when the pipeline is not built. Not
+  /// for the render thread.
+  bool request_key_frame();
+  /// Bandwidth follows the view: tells the sender whether the station needs this camera at full
+  /// rate (an RTCP APP "HDBW" message, drivers/rtp/view_feedback.h, to where the sender's RTCP
+  /// comes from; sent now when it changes and every 0.5 s from the bus thread). Never called:
+  /// nothing is sent and the sender stays at full rate. Lock-free (one atomic store): the frame
+  /// loop may call it between frames.
+  void set_view_needed(bool needed);
+  /// What set_view_needed said last (true before: full rate).
+  bool view_needed() const { return view_need_.load(std::memory_order_relaxed) != 0; }
   /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
   /// link. False when there is no netsim in the path.
   bool set_netsim_drop_probability(double p);
@@ -197,6 +218,18 @@ class RtpCamera final : public CameraSource {
   uint32_t ssrc_ = 0;
   int64_t ssrc_seen_ns_ = 0;
   std::string feedback_to_;  // RTCP source thread: where feedback goes now
+  void send_view_feedback();  // any thread; takes view_mutex_
+  std::mutex view_mutex_;
+  std::string view_host_;  // where the sender's RTCP comes from (under view_mutex_)
+  int view_port_ = 0;
+  std::atomic<int> view_need_{-1};  // -1: never set; written by set_view_needed (lock-free)
+  // Bus thread only: what was sent last and when (0: send at the next turn).
+  int view_sent_need_ = -1;
+  uint16_t view_sequence_ = 0;
+  int64_t view_sent_ns_ = 0;  // under view_mutex_ (a new sender resets it)
+  std::atomic<uint64_t> view_sent_{0};
+  std::atomic<uint64_t> key_frames_{0};
+  std::atomic<int64_t> last_key_capture_ns_{0};
   SpscRing<RtpFrameTiming, 1024> timings_;
   std::array<std::atomic<uint64_t>, static_cast<std::size_t>(RtpPacketError::kCount)> malformed_{};
   std::atomic<uint64_t> frames_published_{0};

@@ -18,6 +18,18 @@ struct RtpReceiveConfig {
   bool retransmission = true;         ///< NACK (RTCP feedback) and RTX (RFC 4588) through rtpbin
   int payload_type = 96;              ///< the H.264 payload type (rtph264pay's default)
   int rtx_payload_type = 97;          ///< RTX payload type for `payload_type`
+  /// The RTCP bandwidth of the station's session, bytes/s (rtpsession rtcp-fraction; the
+  /// default assumes a 64 kbit/s session, i.e. a receiver report every ~0.5 s). RFC 4585
+  /// allows one early feedback packet per regular interval, so a NACK waits up to one interval:
+  /// it must be well below the jitter buffer's latency for a retransmission to arrive in time.
+  /// 20 000 B/s (3/4 of it for a receiver: a ~100-byte report every ~7 ms) is 4 % of a 4 Mbit/s
+  /// stream, inside RFC 3550's 5 %.
+  int rtcp_bandwidth_bytes_per_s = 20000;
+  /// The jitter buffer asks for a missing packet this long after it was expected
+  /// (rtpjitterbuffer rtx-delay), and at once when a packet this many sequence numbers later
+  /// arrives (rtx-delay-reorder): with a 20 ms latency a request must leave within a few ms.
+  int rtx_delay_ms = 1;
+  int rtx_delay_reorder = 1;
   int64_t stall_timeout_ns = 500'000'000;  ///< no frame for this long: kStalled
   /// Fault injection in the receive path (GStreamer netsim before rtpbin; tests and the faults
   /// table only): a packet is dropped with this probability, and delayed by a uniformly

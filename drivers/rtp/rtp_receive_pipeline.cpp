@@ -11,7 +11,9 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
   std::string d;
   d += std::string("rtpbin name=") + kRtpBin +
        " latency=" + std::to_string(c.jitter_buffer_latency_ms) +
-       " do-retransmission=" + (c.retransmission ? "true" : "false") + " ";
+       " do-retransmission=" + (c.retransmission ? "true" : "false") +
+       // AVPF (RFC 4585): NACK and PLI leave as early feedback, not at the next regular report.
+       " rtp-profile=avpf ";
   // A frame buffered past its deadline is of no use: the jitter buffer does not grow beyond
   // the latency.
   d += "drop-on-latency=true ";
@@ -24,7 +26,7 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
       ",rtcp-fb-nack-pli=(boolean)true,rtcp-fb-nack=(boolean)true\" ";
   if (c.srtp_key)
     d += std::string("! ") + kSrtpDecoder + ".rtp_sink srtpdec name=" + kSrtpDecoder + " " +
-         kSrtpDecoder + ".rtp_src ";
+         (c.netsim() ? std::string(kSrtpDecoder) + ".rtp_src " : std::string());
   if (c.netsim()) {
     char p[32];
     std::snprintf(p, sizeof p, "%.6f", c.netsim_drop_probability);
@@ -32,7 +34,8 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
          " min-delay=" + std::to_string(c.netsim_min_delay_ms) +
          " max-delay=" + std::to_string(c.netsim_max_delay_ms) + " delay-distribution=uniform ";
   }
-  d += std::string("! ") + kRtpBin + ".recv_rtp_sink_0 ";
+  // The media chain's last element is linked to rtpbin.recv_rtp_sink_0 by the camera once it
+  // can answer request-aux-receiver (receive_media_link).
   d += std::string("udpsrc name=") + kRtcpSource + " address=" + host + " port=" + rtcp_port +
        " reuse=false" +
        (c.srtp_key ? std::string(" caps=application/x-srtcp ! ") + kSrtpDecoder + ".rtcp_sink " +
@@ -54,6 +57,19 @@ std::string depayloader_description() {
 std::string decoder_description() {
   return std::string("avdec_h264 name=") + rtp_elements::kDecoder +
          " max-threads=1 ! videoconvert ! video/x-raw,format=RGBA";
+}
+
+MediaLink receive_media_link(const RtpReceiveConfig& c) {
+  using namespace rtp_elements;
+  if (c.netsim()) return {kNetsim, "src"};
+  if (c.srtp_key) return {kSrtpDecoder, "rtp_src"};
+  return {kRtpSource, "src"};
+}
+
+std::string rtx_receive_description(const RtpReceiveConfig& c) {
+  return std::string("rtprtxreceive name=") + rtp_elements::kRtxReceive +
+         " payload-type-map=\"application/x-rtp-pt-map," + std::to_string(c.payload_type) +
+         "=(uint)" + std::to_string(c.rtx_payload_type) + "\"";  // original → RTX, as sent
 }
 
 }  // namespace hd::drivers

@@ -19,6 +19,7 @@ inline constexpr const char* kDecoder = "dec";
 inline constexpr const char* kAppSink = "sink";
 inline constexpr const char* kSrtpDecoder = "srtpdec";
 inline constexpr const char* kNetsim = "netsim";
+inline constexpr const char* kRtxReceive = "rtxreceive";
 }  // namespace rtp_elements
 
 /// udpsrc (RTP) [→ netsim] → rtpbin (jitter buffer, NACK/RTX) → rtph264depay (asks for a key
@@ -27,6 +28,10 @@ inline constexpr const char* kNetsim = "netsim";
 /// receiver reports and feedback to wherever the sender's RTCP comes from). With a key, srtpdec
 /// sits between both udpsrcs and rtpbin; the key is not in the description (the camera hands it
 /// to srtpdec's request-key signal), so the description can be shown.
+///
+/// The media chain (udpsrc [→ srtpdec] [→ netsim]) ends unlinked: the camera links
+/// receive_media_link() to rtpbin.recv_rtp_sink_0 after connecting its request-aux-receiver
+/// handler, which rtpbin calls when that pad is requested (so it cannot be in the description).
 std::string receive_pipeline_description(const RtpReceiveConfig& c);
 
 /// The part after rtpbin, as receive_pipeline_description() builds it: the depayloader
@@ -34,5 +39,19 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c);
 /// videoconvert), each a gst_parse_launch fragment (the fuzz test feeds them directly).
 std::string depayloader_description();
 std::string decoder_description();
+/// The element and pad that feed rtpbin.recv_rtp_sink_0. netsim sits before rtpbin (and so
+/// before the RTX receiver): it drops retransmissions with the same probability as the
+/// originals, and a dropped original can still be repaired.
+struct MediaLink {
+  const char* element;
+  const char* pad;
+};
+MediaLink receive_media_link(const RtpReceiveConfig& c);
+
+/// rtpbin's aux receiver for RTX (RFC 4588, SSRC-multiplexed), when c.retransmission:
+/// rtprtxreceive turning rtx_payload_type back into payload_type. It sits between the session
+/// and the jitter buffers, where it sees the jitter buffer's retransmission requests (and so
+/// learns which SSRC repairs which). A plain sender's packets pass through untouched.
+std::string rtx_receive_description(const RtpReceiveConfig& c);
 
 }  // namespace hd::drivers

@@ -67,6 +67,15 @@ int main(int argc, char** argv) {
                  "joins or loses packets shows video again")
       ->capture_default_str()
       ->check(CLI::Range(0.05, 10.0));
+  bool no_rtx = false;
+  app.add_flag("--no-rtx", no_rtx,
+               "answer no NACKs (no RTX, RFC 4588): a lost packet is then repaired only by the "
+               "next key frame");
+  bool full_rate = false;
+  app.add_flag("--full-rate", full_rate,
+               "ignore the station's view feedback and send every camera at full rate (by "
+               "default a camera the station says it cannot use soon is sent at 1/6 of its rate "
+               "until it is needed, then resumes with a key frame)");
   std::string key_file;
   app.add_option("--key-file", key_file,
                  "pre-shared SRTP key (56 hex digits: AES-128-GCM key + salt), readable by its "
@@ -140,6 +149,8 @@ int main(int argc, char** argv) {
     c.p_c = calibrated[i].p_c;
     c.T_world_cam = calibrated[i].T_world_real;
     c.srtp_key = key;
+    c.retransmission = !no_rtx;
+    c.follow_view = !full_rate;
     std::unique_ptr<hd::remote::RtpSender> s;
     try {
       s = std::make_unique<hd::remote::RtpSender>(c);
@@ -151,13 +162,17 @@ int main(int argc, char** argv) {
     std::printf(
         "  camera %zu %-10s %dx%d at %g Hz -> rtp://%s:%d (RTCP %d): x264enc (software; "
         "zerolatency, ultrafast, no B-frames, key frame every %d frames, VBV %d ms = one frame, "
-        "%d kbit/s), rtph264pay, rtpbin; per packet: ntp-64 capture time (CLOCK_REALTIME: the "
+        "%d kbit/s), rtph264pay, rtpbin (%s); per packet: ntp-64 capture time (CLOCK_REALTIME: the "
         "station maps it exactly on one host, else as well as the hosts' clocks agree) and "
         "camera-state (index %zu, calibration revision %u); with every frame: p_c and P_c "
         "(calibration element, %zu bytes)\n",
         i, sc.name.c_str(), c.width_px, c.height_px, c.rate_hz, c.host.c_str(), c.port, c.port + 1,
-        c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps, i, c.calibration_revision,
-        hd::drivers::calibration_element_size(c.p_c->distortion_count));
+        c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps,
+        c.retransmission ? ("RTX: NACKed packets of the last " + std::to_string(c.rtx_history_ms) +
+                            " ms sent again, payload type " + std::to_string(c.rtx_payload_type))
+                               .c_str()
+                         : "no RTX",
+        i, c.calibration_revision, hd::drivers::calibration_element_size(c.p_c->distortion_count));
     senders.push_back(std::move(s));
   }
   std::printf("  security: %s\n",
@@ -193,11 +208,22 @@ int main(int argc, char** argv) {
   sim->stop();
   for (std::size_t i = 0; i < senders.size(); ++i) {
     const hd::remote::RtpSenderStats st = senders[i]->stats();
-    std::printf("  camera %zu: %llu frames sent, %llu refused, %llu stamped, %llu packets\n", i,
-                static_cast<unsigned long long>(st.frames_pushed),
-                static_cast<unsigned long long>(st.frames_refused),
-                static_cast<unsigned long long>(st.frames_stamped),
-                static_cast<unsigned long long>(st.packets_stamped));
+    uint64_t malformed = 0;
+    for (uint64_t m : st.view_feedback_malformed) malformed += m;
+    std::printf(
+        "  camera %zu: %llu frames taken, %llu refused, %llu stamped, %llu packets; RTX %llu "
+        "requested, %llu sent; view feedback %llu received (%llu malformed, ignored), %llu frames "
+        "not sent while not needed, %llu key frames forced on becoming needed\n",
+        i, static_cast<unsigned long long>(st.frames_pushed),
+        static_cast<unsigned long long>(st.frames_refused),
+        static_cast<unsigned long long>(st.frames_stamped),
+        static_cast<unsigned long long>(st.packets_stamped),
+        static_cast<unsigned long long>(st.rtx_requests),
+        static_cast<unsigned long long>(st.rtx_packets_sent),
+        static_cast<unsigned long long>(st.view_feedback_received),
+        static_cast<unsigned long long>(malformed),
+        static_cast<unsigned long long>(st.frames_skipped_not_needed),
+        static_cast<unsigned long long>(st.key_frames_forced));
     senders[i]->stop();
   }
   return 0;

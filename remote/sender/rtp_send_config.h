@@ -25,7 +25,20 @@ struct RtpSendConfig {
   /// a link cut, decodes within this time even without asking (x264enc key-int-max).
   double key_interval_s = 0.5;
   int payload_type = 96;
-  int mtu_bytes = 1200;  ///< below any path's MTU, with room for the header extensions
+  /// RTX (RFC 4588): the last rtx_history_ms of packets are kept (rtprtxsend, rtpbin's aux
+  /// sender) and a packet the station NACKs is sent again on its own SSRC with
+  /// rtx_payload_type. Off: NACKs are ignored (a plain sender).
+  bool retransmission = true;
+  int rtx_payload_type = 97;
+  int rtx_history_ms = 500;  ///< older packets are past any jitter buffer's deadline
+  int mtu_bytes = 1200;      ///< below any path's MTU, with room for the header extensions
+  /// Bandwidth follows the view (drivers/rtp/view_feedback.h): while the station says it does
+  /// not need this camera, only every low_rate_divider-th frame is sent; when it needs it again
+  /// the next frame is a key frame. Without a valid message for view_feedback_timeout_s (an old
+  /// station, a plain receiver, a station that went away) the camera is sent at full rate.
+  bool follow_view = true;  ///< false: every frame whatever the station says (for comparison)
+  int low_rate_divider = 6;
+  double view_feedback_timeout_s = 2.0;
   uint8_t camera_index = 0;
   uint32_t calibration_revision = 0;
   /// The camera's p_c (core convention, with its distortion) and P_c: with them, the last packet

@@ -19,9 +19,10 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
   using namespace send_elements;
   const int fps_n = static_cast<int>(std::lround(c.rate_hz * 1000.0));
   std::string d;
-  // rtpsession would overwrite the ntp-64 element with its own NTP time of the buffer's running
-  // time (update-ntp64-header-ext, default true in 1.22): the capture time is push()'s.
-  d += std::string("rtpbin name=") + kRtpBin + " update-ntp64-header-ext=false ";
+  // AVPF (RFC 4585): the station's NACK and PLI are acted on as they come. rtpsession would
+  // overwrite the ntp-64 element with its own NTP time of the buffer's running time
+  // (update-ntp64-header-ext, default true in 1.22): the capture time is push()'s.
+  d += std::string("rtpbin name=") + kRtpBin + " rtp-profile=avpf update-ntp64-header-ext=false ";
   d += std::string("appsrc name=") + kAppSource +
        " is-live=true format=time do-timestamp=false max-buffers=2 leaky-type=downstream "
        "caps=video/x-raw,format=RGBA,width=" +
@@ -34,7 +35,8 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
   d += std::string("! rtph264pay name=") + kPayloader +
        " config-interval=-1 pt=" + std::to_string(c.payload_type) +
        " mtu=" + std::to_string(c.mtu_bytes) + " ";
-  d += std::string("! ") + kRtpBin + ".send_rtp_sink_0 ";
+  // The payloader is linked to rtpbin.send_rtp_sink_0 by RtpSender after it has answered
+  // rtpbin's request-aux-sender (the request is made when that pad is), see send_media_link.
   const std::string enc = kSrtpEncoder;
   if (c.srtp_key)
     d += "srtpenc name=" + enc +
@@ -51,6 +53,13 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
   d += std::string("udpsrc name=") + kRtcpIn + " port=0 caps=application/x-rtcp ! " + kRtpBin +
        ".recv_rtcp_sink_0";
   return d;
+}
+
+std::string rtx_send_description(const RtpSendConfig& c) {
+  return std::string("rtprtxsend name=") + send_elements::kRtxSend +
+         " payload-type-map=\"application/x-rtp-pt-map," + std::to_string(c.payload_type) +
+         "=(uint)" + std::to_string(c.rtx_payload_type) +
+         "\" max-size-time=" + std::to_string(c.rtx_history_ms) + " max-size-packets=0";
 }
 
 }  // namespace hd::remote

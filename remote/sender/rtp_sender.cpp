@@ -4,14 +4,17 @@
 #include <gst/app/gstappsrc.h>
 #include <gst/rtp/gstrtcpbuffer.h>
 #include <gst/rtp/rtp.h>
+#include <gst/video/video.h>
 #include <time.h>
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/clock_offset_estimator.h"
 #include "drivers/rtp/gstreamer_init.h"
+#include "drivers/rtp/rtp_aux_bin.h"
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "remote/sender/rtp_send_pipeline.h"
 
@@ -70,6 +73,7 @@ bool RtpSender::set_calibration(const core::Pinhole& p_c, const core::Pose& T_wo
 RtpSender::~RtpSender() {
   stop();
   if (appsrc_ != nullptr) gst_object_unref(appsrc_);
+  if (rtxsend_ != nullptr) gst_object_unref(rtxsend_);
   if (pipeline_ != nullptr) gst_object_unref(pipeline_);
 }
 
@@ -111,8 +115,23 @@ void RtpSender::start() {
       g_object_get(in, "used-socket", &socket, nullptr);
       if (socket != nullptr) {
         g_object_set(out, "socket", socket, "close-socket", FALSE, nullptr);
+        if (GSocketAddress* local = g_socket_get_local_address(socket, nullptr)) {
+          rtcp_port_ = g_inet_socket_address_get_port(G_INET_SOCKET_ADDRESS(local));
+          g_object_unref(local);
+        }
         g_object_unref(socket);
       }
+      // The station's view feedback arrives here beside its RTCP: read and taken out before
+      // rtpbin (a lone APP packet is no valid compound RTCP for it) and before the round-trip
+      // probe below (added later, so called later).
+      GstPad* in_src = gst_element_get_static_pad(in, "src");
+      gst_pad_add_probe(
+          in_src, GST_PAD_PROBE_TYPE_BUFFER,
+          [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+            return static_cast<RtpSender*>(self)->on_view_feedback(GST_PAD_PROBE_INFO_BUFFER(info));
+          },
+          this, nullptr);
+      gst_object_unref(in_src);
       gst_object_unref(in);
       gst_object_unref(out);
     }
@@ -150,6 +169,25 @@ void RtpSender::start() {
       gst_object_unref(in);
     }
     GstElement* pay = by_name(pipeline_, send_elements::kPayloader);
+    {  // RTX: answer rtpbin's request for an aux sender, then request the pad that asks for it
+      GstElement* rtpbin = by_name(pipeline_, send_elements::kRtpBin);
+      if (config_.retransmission)
+        g_signal_connect(rtpbin, "request-aux-sender",
+                         G_CALLBACK(+[](GstElement*, guint session, gpointer self) {
+                           auto* me = static_cast<RtpSender*>(self);
+                           return drivers::make_rtp_aux_bin(rtx_send_description(me->config_),
+                                                            session);
+                         }),
+                         this);
+      const gboolean linked = gst_element_link_pads(pay, "src", rtpbin, "send_rtp_sink_0");
+      gst_object_unref(rtpbin);
+      if (!linked)
+        throw std::runtime_error("stream to " + where + ": cannot link the payloader to rtpbin" +
+                                 (config_.retransmission ? " (with its RTX aux sender)" : ""));
+      if (config_.retransmission) rtxsend_ = by_name(pipeline_, send_elements::kRtxSend);
+      if (config_.retransmission && rtxsend_ == nullptr)
+        throw std::runtime_error("stream to " + where + ": rtpbin took no RTX aux sender");
+    }
     GstElement* ntp = gst_element_factory_make("rtphdrextntp64", nullptr);
     if (ntp == nullptr)
       throw std::runtime_error("stream to " + where +
@@ -201,6 +239,24 @@ bool RtpSender::push(const drivers::Frame& f) {
     refused_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
+  const bool needed = needed_now(drivers::monotonic_now_ns());
+  needed_reported_.store(needed, std::memory_order_relaxed);
+  if (needed && !was_needed_) {
+    // Needed again: this frame becomes a key frame, so the station decodes at once instead of
+    // waiting for the periodic one (key_int_frames frames, which at the low rate is divider
+    // times longer).
+    GstElement* enc = by_name(pipeline_, send_elements::kEncoder);
+    gst_element_send_event(
+        enc, gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 0));
+    gst_object_unref(enc);
+    forced_.fetch_add(1, std::memory_order_relaxed);
+  }
+  if (!needed && was_needed_) push_index_ = 0;  // the first low-rate frame goes at once
+  was_needed_ = needed;
+  if (!needed && push_index_++ % uint64_t(std::max(1, config_.low_rate_divider)) != 0) {
+    skipped_.fetch_add(1, std::memory_order_relaxed);
+    return true;  // taken, not sent: the station does not need every frame of this camera
+  }
   const std::size_t row = std::size_t(f.width) * 4;
   GstBuffer* b = gst_buffer_new_allocate(nullptr, row * f.height, nullptr);
   GstMapInfo map;
@@ -229,6 +285,11 @@ bool RtpSender::push(const drivers::Frame& f) {
 // timestamp meta, which videoconvert and x264enc carry over) is what rtphdrextntp64 writes.
 GstPadProbeReturn RtpSender::on_encoded(GstPadProbeInfo* info) {
   GstBuffer* b = GST_PAD_PROBE_INFO_BUFFER(info);
+  const uint64_t index = frames_encoded_.fetch_add(1, std::memory_order_relaxed);
+  if (!GST_BUFFER_FLAG_IS_SET(b, GST_BUFFER_FLAG_DELTA_UNIT)) {
+    last_key_frame_index_.store(index, std::memory_order_relaxed);
+    key_frames_.fetch_add(1, std::memory_order_release);
+  }
   encoded_pts_ = GST_BUFFER_PTS(b);
   encoded_mono_ns_ = drivers::monotonic_now_ns();
   encoded_capture_ns_ = 0;
@@ -320,6 +381,42 @@ GstPadProbeReturn RtpSender::on_packets(GstPadProbeInfo* info) {
   return GST_PAD_PROBE_OK;
 }
 
+bool RtpSender::needed_now(int64_t now_ns) const {
+  if (!config_.follow_view) return true;
+  const int64_t last = last_feedback_ns_.load(std::memory_order_acquire);
+  if (last == 0 || now_ns - last > static_cast<int64_t>(config_.view_feedback_timeout_s * 1e9))
+    return true;  // no station that says otherwise: full rate
+  return station_needs_.load(std::memory_order_relaxed);
+}
+
+GstPadProbeReturn RtpSender::on_view_feedback(GstBuffer* buffer) {
+  GstMapInfo map;
+  if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_OK;
+  drivers::ViewFeedback f;
+  const drivers::ViewFeedbackError e =
+      drivers::parse_view_feedback(std::span<const uint8_t>(map.data, map.size), f);
+  gst_buffer_unmap(buffer, &map);
+  if (e == drivers::ViewFeedbackError::kNotViewFeedback) return GST_PAD_PROBE_OK;  // RTCP
+  if (e != drivers::ViewFeedbackError::kNone) {
+    feedback_malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
+    return GST_PAD_PROBE_DROP;
+  }
+  // A message older than the last one (reordered on the way) says nothing new.
+  // After a silence (a restarted station counts from 0 again) any message is taken.
+  const int64_t now = drivers::monotonic_now_ns();
+  const int last = last_sequence_.load(std::memory_order_relaxed);
+  const int64_t heard = last_feedback_ns_.load(std::memory_order_relaxed);
+  const bool silence =
+      heard == 0 || now - heard > static_cast<int64_t>(config_.view_feedback_timeout_s * 1e9);
+  if (!silence && last >= 0 && static_cast<int16_t>(f.sequence - static_cast<uint16_t>(last)) <= 0)
+    return GST_PAD_PROBE_DROP;
+  last_sequence_.store(f.sequence, std::memory_order_relaxed);
+  station_needs_.store(f.needed, std::memory_order_relaxed);
+  last_feedback_ns_.store(now, std::memory_order_release);
+  feedback_received_.fetch_add(1, std::memory_order_relaxed);
+  return GST_PAD_PROBE_DROP;
+}
+
 int64_t RtpSender::sender_realtime_ns() const {
   return drivers::monotonic_now_ns() + realtime_minus_monotonic_ns() + config_.test_clock_shift_ns;
 }
@@ -393,6 +490,21 @@ RtpSenderStats RtpSender::stats() const {
   s.round_trips = round_trips_.load();
   s.round_trip_ns = round_trip_ns_.load();
   s.packets_with_calibration = packets_calibrated_.load();
+  s.frames_encoded = frames_encoded_.load();
+  s.key_frames = key_frames_.load();
+  s.last_key_frame_index = last_key_frame_index_.load();
+  s.view_feedback_received = feedback_received_.load();
+  for (std::size_t i = 0; i < s.view_feedback_malformed.size(); ++i)
+    s.view_feedback_malformed[i] = feedback_malformed_[i].load();
+  s.frames_skipped_not_needed = skipped_.load();
+  s.key_frames_forced = forced_.load();
+  s.needed = needed_reported_.load();
+  if (rtxsend_ != nullptr) {
+    guint requests = 0, packets = 0;
+    g_object_get(rtxsend_, "num-rtx-requests", &requests, "num-rtx-packets", &packets, nullptr);
+    s.rtx_requests = requests;
+    s.rtx_packets_sent = packets;
+  }
   return s;
 }
 

@@ -12,18 +12,33 @@
 
 #include "drivers/frame.h"
 #include "drivers/rtp/rtp_calibration.h"
+#include "drivers/rtp/view_feedback.h"
 #include "remote/sender/rtp_send_config.h"
 
 namespace hd::remote {
 
 struct RtpSenderStats {
   uint64_t frames_pushed = 0;
-  uint64_t frames_refused = 0;   ///< wrong size, or captured before the pipeline started
-  uint64_t packets_stamped = 0;  ///< packets that got the camera-state element
-  uint64_t frames_stamped = 0;   ///< encoded frames that got their capture time (ntp-64)
-  uint64_t sender_reports = 0;   ///< RTCP sender reports sent
-  uint64_t round_trips = 0;      ///< round trips measured from the station's receiver reports
-  int64_t round_trip_ns = -1;    ///< the newest (-1 none yet)
+  uint64_t frames_refused = 0;        ///< wrong size, or captured before the pipeline started
+  uint64_t packets_stamped = 0;       ///< packets that got the camera-state element
+  uint64_t frames_stamped = 0;        ///< encoded frames that got their capture time (ntp-64)
+  uint64_t frames_encoded = 0;        ///< frames out of the encoder (index of the next one)
+  uint64_t key_frames = 0;            ///< of them IDRs (not delta units): periodic and requested
+  uint64_t last_key_frame_index = 0;  ///< the newest IDR's index among frames_encoded
+  /// RTX: NACKed packets asked for (rtprtxsend's retransmission events) / sent again.
+  uint64_t rtx_requests = 0;
+  uint64_t rtx_packets_sent = 0;
+  /// Bandwidth follows the view: valid station messages, malformed ones (by reason, counted and
+  /// ignored), frames not sent while not needed, key frames forced on becoming needed again.
+  uint64_t view_feedback_received = 0;
+  std::array<uint64_t, static_cast<std::size_t>(drivers::ViewFeedbackError::kCount)>
+      view_feedback_malformed{};
+  uint64_t frames_skipped_not_needed = 0;
+  uint64_t key_frames_forced = 0;
+  bool needed = true;           ///< as of the last push()
+  uint64_t sender_reports = 0;  ///< RTCP sender reports sent
+  uint64_t round_trips = 0;     ///< round trips measured from the station's receiver reports
+  int64_t round_trip_ns = -1;   ///< the newest (-1 none yet)
   uint64_t packets_with_calibration = 0;  ///< last packets of frames that got the calibration
 };
 
@@ -60,6 +75,9 @@ class RtpSender {
   RtpSenderStats stats() const;
   const RtpSendConfig& config() const { return config_; }
   std::string description() const;
+  /// The local UDP port RTCP leaves from and the station's feedback (RTCP, view feedback) comes
+  /// to; 0 before start().
+  uint16_t rtcp_port() const { return rtcp_port_; }
 
  private:
   GstPadProbeReturn on_encoded(GstPadProbeInfo* info);
@@ -67,6 +85,8 @@ class RtpSender {
   bool stamp_packet(GstBuffer* buffer);
   bool add_calibration(GstRTPBuffer& rtp);
   bool set_calibration(const core::Pinhole& p_c, const core::Pose& T_world_cam, bool next_revision);
+  GstPadProbeReturn on_view_feedback(GstBuffer* buffer);
+  bool needed_now(int64_t now_ns) const;
   GstPadProbeReturn on_rtcp_out(GstPadProbeInfo* info);
   GstPadProbeReturn on_rtcp_in(GstBuffer* buffer);
   int64_t sender_realtime_ns() const;  // the host's CLOCK_REALTIME + test_clock_shift_ns
@@ -74,10 +94,25 @@ class RtpSender {
   RtpSendConfig config_;
   GstElement* pipeline_ = nullptr;
   GstElement* appsrc_ = nullptr;
+  GstElement* rtxsend_ = nullptr;  // inside rtpbin's aux sender (retransmission only)
   GstClockTime base_time_ = 0;
   bool playing_ = false;
   std::atomic<uint64_t> pushed_{0}, refused_{0}, packets_stamped_{0}, frames_stamped_{0},
       packets_calibrated_{0};
+  std::atomic<uint64_t> frames_encoded_{0}, key_frames_{0}, last_key_frame_index_{0};
+  uint16_t rtcp_port_ = 0;
+  // View feedback: written by the RTCP source's streaming thread, read by push().
+  std::atomic<bool> station_needs_{true};
+  std::atomic<int64_t> last_feedback_ns_{0};  // 0: none yet (full rate)
+  std::atomic<int> last_sequence_{-1};
+  std::atomic<uint64_t> feedback_received_{0};
+  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(drivers::ViewFeedbackError::kCount)>
+      feedback_malformed_{};
+  // push()'s thread only.
+  bool was_needed_ = true;
+  uint64_t push_index_ = 0;
+  std::atomic<uint64_t> skipped_{0}, forced_{0};
+  std::atomic<bool> needed_reported_{true};
   std::atomic<uint64_t> sender_reports_{0}, round_trips_{0};
   std::atomic<int64_t> round_trip_ns_{-1};
   // Streaming thread of the payloader: when the frame now being packetised reached it.

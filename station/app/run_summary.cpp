@@ -51,9 +51,12 @@ void print_summary(const RunSummary& s, std::FILE* out) {
     std::fprintf(out,
                  "  network camera %-12s %" PRIu64 " packets (%" PRIu64
                  " malformed), security %s: %" PRIu64 " rejected; frames with capture time %" PRIu64
-                 ", with arrival time %" PRIu64 "; PLI %" PRIu64 ", NACK %" PRIu64 "%s%s\n",
+                 ", with arrival time %" PRIu64 "; PLI %" PRIu64 ", NACK %" PRIu64
+                 ", RTX received %" PRIu64 "; view feedback %" PRIu64 " sent, need changed %" PRIu64
+                 "%s%s\n",
                  n.camera.c_str(), n.packets, n.malformed, n.security.c_str(), n.srtp_rejected,
-                 n.frames_stamped, n.frames_unstamped, n.pli_sent, n.nack_sent,
+                 n.frames_stamped, n.frames_unstamped, n.pli_sent, n.nack_sent, n.rtx_received,
+                 n.view_feedback_sent, n.need_changes,
                  n.last_error.empty() ? "" : "; last error: ", n.last_error.c_str());
   for (const RunSummary::NetworkCamera& n : s.network_cameras)
     std::fprintf(out,
@@ -174,6 +177,9 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                        {"bus_errors", n.bus_errors},
                        {"pli_sent", n.pli_sent},
                        {"nack_sent", n.nack_sent},
+                       {"rtx_received", n.rtx_received},
+                       {"view_feedback_sent", n.view_feedback_sent},
+                       {"need_changes", n.need_changes},
                        {"last_error", n.last_error}});
   for (std::size_t i = 0; i < s.network_cameras.size(); ++i) {
     const RunSummary::NetworkCamera& n = s.network_cameras[i];

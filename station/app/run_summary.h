@@ -35,6 +35,9 @@ struct RunSummary {
     std::string security;  ///< "SRTP AES-128-GCM (key file F)" or "none"
     uint64_t packets = 0, bytes = 0, malformed = 0, srtp_rejected = 0, frames_stamped = 0,
              frames_unstamped = 0, not_newer = 0, bus_errors = 0, pli_sent = 0, nack_sent = 0;
+    /// RTX packets received; view feedback messages sent (bandwidth follows the view) and how
+    /// often the camera's need changed.
+    uint64_t rtx_received = 0, view_feedback_sent = 0, need_changes = 0;
     std::string last_error;
     /// Where its p_c / P_c came from at the end: "stream (revision N)", "file F", or "none
     /// (no calibration arrived)"; calibration elements refused; frames not shown for want of one.

@@ -38,6 +38,7 @@
 #include "station/app/usability_log.h"
 #include "station/prediction/constant_velocity_predictor.h"
 #include "station/prediction/kalman_predictor.h"
+#include "station/selection/camera_need.h"
 
 namespace hd::station {
 namespace {
@@ -267,6 +268,20 @@ int run(const RunOptions& o) {
     event_sources.push_back(pipe.get());
     pipelines.push_back(pipe.get());
   }
+  // Bandwidth follows the view (docs/network.md): network cameras the view cannot use soon are
+  // told so and sent at a low rate; the others (and every camera of an old sender) at full rate.
+  station::CameraNeedParams need_params;
+  need_params.m_t = p.frame_config.transition.m_t;
+  station::CameraNeedPolicy need(p.cameras.size(), need_params);
+  if (p.updater)  // the pairs it reconstructs from need frames of one exposure from both
+    for (const station::ModelStereoPair& pair : p.updater->config().stereo_pairs) {
+      if (pair.left < p.cameras.size()) need.keep(pair.left);
+      if (pair.right < p.cameras.size()) need.keep(pair.right);
+    }
+  std::vector<drivers::RtpCamera*> network(p.cameras.size(), nullptr);
+  std::vector<uint64_t> need_changes(p.cameras.size(), 0);
+  for (std::size_t i = 0; i < p.devices.size() && i < network.size(); ++i)
+    network[i] = dynamic_cast<drivers::RtpCamera*>(p.devices[i].get());
   for (;;) {
     if (o.frames && loop.frames() >= o.frames) break;
     if (!o.frames && seconds > 0.0 && clock.now_ns() >= end_ns) break;
@@ -283,6 +298,12 @@ int run(const RunOptions& o) {
     camera_events.poll(event_sources, p.camera_names);
     camera_events.poll_calibrations(pipelines, p.camera_names, p.camera_calibration_files);
     usability.poll(frame, p.camera_names);
+    need.update(frame.view_m(), frame.selector().current(), now);
+    for (std::size_t i = 0; i < network.size(); ++i)
+      if (network[i] != nullptr) {
+        need_changes[i] += network[i]->view_needed() != need.needed(i);
+        network[i]->set_view_needed(need.needed(i));
+      }
     if (now >= next_hud_ns) {
       next_hud_ns = now + 500'000'000;
       const station::FrameRow& r = frame.last_row();
@@ -353,6 +374,9 @@ int run(const RunOptions& o) {
     n.bus_errors = st.bus_errors;
     n.pli_sent = fb.pli_sent;
     n.nack_sent = fb.nack_sent;
+    n.rtx_received = fb.rtx_received;
+    n.view_feedback_sent = fb.view_feedback_sent;
+    n.need_changes = i < need_changes.size() ? need_changes[i] : 0;
     n.last_error = st.last_error;
     const int64_t revision = i < p.pipelines.size() ? p.pipelines[i]->stream_revision() : -1;
     const std::string file =

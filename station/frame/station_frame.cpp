@@ -25,6 +25,7 @@ StationFrame::StationFrame(StationFrameConfig config,
       transition_(config.transition),
       selector_(config.selection),
       m_camera_(cameras.size(), INFINITY),
+      m_view_(cameras.size(), INFINITY),
       measure_(cameras.size() * 2),
       has_frame_(cameras.size(), 0),
       usable_(cameras.size(), 0),
@@ -141,6 +142,7 @@ void StationFrame::tick(const render::FrameTiming& timing) {
       vm = core::measure_view(s);
       worse = render::StereoRig::worse_m(worse, vm.m);
     }
+    m_view_[c] = worse;
     m_camera_[c] = usable_[c] ? worse : INFINITY;
   }
   const int chosen = selector_.update(m_camera_, timing.dt_s);

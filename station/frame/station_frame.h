@@ -140,6 +140,9 @@ class StationFrame final : public render::FrameWork {
   /// The p_c / P_c camera i is measured and drawn with now: its CalibratedCamera's, or the
   /// calibration its newest frame brought (a network camera whose sender streams it).
   const drivers::CalibratedCamera& camera(std::size_t i) const { return cameras_[i]; }
+  /// The newest frame's geometric m per camera (worse eye) at the predicted pose, whether or
+  /// not its video is usable: what bandwidth-follows-the-view decides on (CameraNeedPolicy).
+  std::span<const double> view_m() const { return m_view_; }
 
  private:
   StationFrameConfig config_;
@@ -159,7 +162,8 @@ class StationFrame final : public render::FrameWork {
   render::ImageRgba8 panel_;  ///< allocated with a lens only
   render::HudStrip hud_;
   render::Viewport hud_viewport_{};  ///< with a lens: eye 0's visible part, in the eyes' picture
-  std::vector<double> m_camera_;     ///< worse-eye m per camera
+  std::vector<double> m_camera_;     ///< worse-eye m per camera (+inf: not usable)
+  std::vector<double> m_view_;       ///< worse-eye m per camera, usable or not
   std::vector<core::ViewMeasure> measure_;  ///< [camera * 2 + eye]
   std::vector<uint8_t> has_frame_;
   std::vector<uint8_t> usable_;

@@ -49,43 +49,72 @@ struct Watch {
 TEST(RemoteFaults, LossAndJitterTableNeverPresentsOldVideoAsNew) {
   constexpr double kSeconds = 2.0;  // of streaming per cell, after the first frame
   std::printf(
-      "| loss | jitter ms | frames shown | frames lost (of %g s x 30 Hz) | old shown as new |\n",
+      "| loss | jitter ms | RTX | frames shown | frames lost (of %g s x 30 Hz) | old shown as new "
+      "| NACK sent | retransmissions received |\n",
       kSeconds);
-  std::printf("|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  uint64_t shown_5_percent[2] = {0, 0};  // frames shown at 5 % loss over the jitter cells: off, on
   for (double loss : {0.0, 0.01, 0.05})
     for (int jitter_ms : {0, 20, 50}) {
-      const uint16_t port = testing::free_rtp_port();
-      ASSERT_NE(port, 0);
-      RtpReceiveConfig c;
-      c.listen = {"127.0.0.1", port};
-      c.netsim_always = true;
-      c.netsim_drop_probability = loss;
-      c.netsim_max_delay_ms = jitter_ms;
-      RtpCamera cam(c);
-      cam.negotiate({640, 480, {}, 0.0});
-      cam.start();
-      testing::ChildProcess remote(remote_to(port));
-      Watch w;
-      ASSERT_TRUE(wait_for([&] {
-        w.poll(cam);
-        return w.shown > 0;
-      })) << loss
-          << " " << jitter_ms;
-      const auto end = Clock::now() + std::chrono::duration<double>(kSeconds);
-      while (Clock::now() < end) {
-        w.poll(cam);
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      uint64_t shown_without_rtx = 0;
+      for (bool rtx : {false, true}) {
+        const uint16_t port = testing::free_rtp_port();
+        ASSERT_NE(port, 0);
+        RtpReceiveConfig c;
+        c.listen = {"127.0.0.1", port};
+        c.retransmission = rtx;  // off: no NACK, no RTX receiver (the sender's RTX stays idle)
+        c.netsim_always = true;
+        c.netsim_drop_probability = loss;
+        c.netsim_max_delay_ms = jitter_ms;
+        RtpCamera cam(c);
+        cam.negotiate({640, 480, {}, 0.0});
+        cam.start();
+        testing::ChildProcess remote(remote_to(port));
+        Watch w;
+        ASSERT_TRUE(wait_for([&] {
+          w.poll(cam);
+          return w.shown > 0;
+        })) << loss
+            << " " << jitter_ms << " rtx " << rtx;
+        const auto end = Clock::now() + std::chrono::duration<double>(kSeconds);
+        while (Clock::now() < end) {
+          w.poll(cam);
+          std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        const double expected = kSeconds * 30.0;
+        const RtpCamera::Feedback fb = cam.feedback();
+        std::printf("| %.0f %% | 0..%d | %s | %llu | %.0f | %llu | %llu | %llu |\n", loss * 100,
+                    jitter_ms, rtx ? "on" : "off", static_cast<unsigned long long>(w.shown),
+                    std::max(0.0, expected - double(w.shown)),
+                    static_cast<unsigned long long>(w.older_than_shown),
+                    static_cast<unsigned long long>(fb.nack_sent),
+                    static_cast<unsigned long long>(fb.rtx_received));
+        // How many frames a cell shows depends on the machine's load as much as on the faults
+        // (the table reports it); that video is shown at all is asserted by the wait above.
+        EXPECT_EQ(w.older_than_shown, 0u) << loss << " " << jitter_ms << " rtx " << rtx;
+        EXPECT_EQ(cam.stats().capture_after_arrival, 0u) << loss << " " << jitter_ms;
+        if (!rtx) {
+          shown_without_rtx = w.shown;
+          EXPECT_EQ(fb.rtx_received, 0u);
+          continue;
+        }
+        // Lost packets were asked for again and came back (RFC 4588 over rtpbin's aux elements).
+        if (loss > 0.0) {
+          EXPECT_GT(fb.rtx_received, 0u) << loss << " " << jitter_ms;
+        }
+        if (loss >= 0.05) {
+          shown_5_percent[0] += shown_without_rtx;
+          shown_5_percent[1] += w.shown;
+        }
       }
-      const double expected = kSeconds * 30.0;
-      std::printf("| %.0f %% | 0..%d | %llu | %.0f | %llu |\n", loss * 100, jitter_ms,
-                  static_cast<unsigned long long>(w.shown),
-                  std::max(0.0, expected - double(w.shown)),
-                  static_cast<unsigned long long>(w.older_than_shown));
-      // How many frames a cell shows depends on the machine's load as much as on the faults
-      // (the table reports it); that video is shown at all is asserted by the wait above.
-      EXPECT_EQ(w.older_than_shown, 0u) << loss << " " << jitter_ms;
-      EXPECT_EQ(cam.stats().capture_after_arrival, 0u) << loss << " " << jitter_ms;
     }
+  // Frames shown with and without RTX are printed, not asserted: on an idle machine (load 0.6,
+  // 08:28 UTC 2026-12-02) RTX showed more at 1 % loss (150 against 133 over the jitter cells)
+  // but not at 5 % (71 against 75), where a lost last packet of a frame (noticed only with the
+  // next frame, past the 20 ms jitter buffer) still costs the frames up to the next key frame.
+  std::printf("frames shown at 5 %% loss over the jitter cells: RTX off %llu, on %llu\n",
+              static_cast<unsigned long long>(shown_5_percent[0]),
+              static_cast<unsigned long long>(shown_5_percent[1]));
 }
 
 TEST(RemoteFaults, AfterAThreeSecondCutVideoIsBackWithinOneSecond) {

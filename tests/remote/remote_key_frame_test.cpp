@@ -1,0 +1,85 @@
+// A key-frame request from the station (RtpCamera::request_key_frame → rtph264depay's upstream
+// force-key-unit → rtpbin's RTCP PLI) reaches the sender's rtpbin, which turns it into a
+// force-key-unit event for x264enc: the next IDR comes long before the periodic one.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <thread>
+
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/gst_launch_sender.h"
+#include "drivers/rtp/rtp_camera.h"
+#include "remote/sender/rtp_sender.h"
+
+namespace hd::drivers {
+namespace {
+
+template <class F>
+bool wait_for(F f) {
+  for (int i = 0; i < 12000; ++i) {
+    if (f()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return f();
+}
+
+TEST(RemoteKeyFrame, APliFromTheStationMakesTheEncoderSendAnIdrBeforeItsPeriodicOne) {
+  const uint16_t port = testing::free_rtp_port();
+  ASSERT_NE(port, 0);
+  RtpReceiveConfig rc;
+  rc.listen = {"127.0.0.1", port};
+  RtpCamera cam(rc);
+  cam.negotiate({320, 240, {}, 0.0});
+  cam.start();
+
+  remote::RtpSendConfig sc;
+  sc.port = port;
+  sc.width_px = 320;
+  sc.height_px = 240;
+  sc.rate_hz = 30.0;
+  sc.bitrate_kbps = 500;
+  sc.key_interval_s = 20.0;  // periodic IDRs 600 frames apart: only the first one in this test
+  remote::RtpSender sender(sc);
+  sender.start();
+
+  std::atomic<bool> run{true};
+  std::thread producer([&] {  // a live camera at 30 Hz with moving content
+    Frame f;
+    f.allocate_rgba(sc.width_px, sc.height_px);
+    for (uint8_t n = 0; run; ++n) {
+      for (std::size_t i = 0; i < f.data.size(); i += 4) f.data[i] = uint8_t(i / 4 + n * 7);
+      f.host_timestamp_ns = monotonic_now_ns();
+      sender.push(f);
+      std::this_thread::sleep_for(std::chrono::milliseconds(33));  // the frame period
+    }
+  });
+
+  ASSERT_TRUE(wait_for([&] { return cam.stats().frames_published >= 5; }));
+  // The station's RTCP goes where the sender's comes from: it has somewhere to send a PLI once
+  // the sender's first report arrived (its RTCP interval, not the video, decides when).
+  ASSERT_TRUE(wait_for([&] { return cam.stats().feedback_targets >= 1; }));
+  const remote::RtpSenderStats before = sender.stats();
+  ASSERT_EQ(before.key_frames, 1u) << "only the stream's first frame is an IDR so far";
+  ASSERT_TRUE(cam.request_key_frame());
+  ASSERT_TRUE(wait_for([&] { return sender.stats().key_frames > before.key_frames; }));
+  const remote::RtpSenderStats after = sender.stats();
+  const uint64_t frames_later = after.last_key_frame_index - (before.frames_encoded - 1);
+  std::printf(
+      "PLI: IDR %llu frames after the request (periodic key frame every %d frames), "
+      "%llu PLI sent\n",
+      static_cast<unsigned long long>(frames_later), sc.key_int_frames(),
+      static_cast<unsigned long long>(cam.feedback().pli_sent));
+  // The request crosses RTCP, the sender's session and its encoder's queue: a few frames. 15
+  // (0.5 s at 30 Hz) bounds it on a loaded machine; the periodic IDR is 600 frames away.
+  EXPECT_LE(frames_later, 15u);
+  EXPECT_GE(cam.feedback().pli_sent, 1u);
+  run = false;
+  producer.join();
+  sender.stop();
+  cam.stop();
+}
+
+}  // namespace
+}  // namespace hd::drivers

@@ -1,0 +1,120 @@
+// The sender's side of bandwidth follows the view, fed by a plain UDP socket: malformed view
+// feedback is counted by reason and ignored (full rate), "not needed" lowers the rate, and when
+// the station falls silent the camera is sent at full rate again with a key frame.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/rtp/gst_launch_sender.h"
+#include "drivers/rtp/view_feedback.h"
+#include "remote/sender/rtp_sender.h"
+
+namespace hd::remote {
+namespace {
+
+template <class F>
+bool wait_for(F f) {
+  for (int i = 0; i < 12000; ++i) {
+    if (f()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return f();
+}
+
+class Udp {  // one datagram socket, closed on destruction
+ public:
+  Udp() : fd_(::socket(AF_INET, SOCK_DGRAM, 0)) {}
+  ~Udp() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  Udp(const Udp&) = delete;
+  Udp& operator=(const Udp&) = delete;
+  void send(uint16_t port, std::span<const uint8_t> bytes) const {
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(port);
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ::sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  }
+
+ private:
+  int fd_;
+};
+
+std::vector<uint8_t> message(bool needed, uint16_t sequence) {
+  std::array<uint8_t, drivers::kViewFeedbackSize> b{};
+  drivers::write_view_feedback({0, needed, sequence}, b);
+  return {b.begin(), b.end()};
+}
+
+TEST(RemoteViewFeedbackSender, MalformedIsCountedAndIgnoredAndSilenceMeansFullRate) {
+  const uint16_t port = drivers::testing::free_rtp_port();  // nobody listens: the sender only
+  ASSERT_NE(port, 0);
+  RtpSendConfig c;
+  c.port = port;
+  c.width_px = 160;
+  c.height_px = 120;
+  c.bitrate_kbps = 200;
+  c.key_interval_s = 20.0;  // the only IDRs: the first and the forced one
+  c.view_feedback_timeout_s = 0.5;
+  RtpSender sender(c);
+  sender.start();
+  ASSERT_NE(sender.rtcp_port(), 0);
+  std::atomic<bool> run{true};
+  std::thread producer([&] {
+    drivers::Frame f;
+    f.allocate_rgba(c.width_px, c.height_px);
+    while (run) {
+      f.host_timestamp_ns = drivers::monotonic_now_ns();
+      sender.push(f);
+      std::this_thread::sleep_for(std::chrono::milliseconds(33));  // the frame period
+    }
+  });
+  ASSERT_TRUE(wait_for([&] { return sender.stats().key_frames >= 1; }));
+
+  Udp udp;
+  std::vector<uint8_t> bad_version = message(false, 1);
+  bad_version[12] = 9;
+  std::vector<uint8_t> bad_length = message(false, 2);
+  bad_length.push_back(0);
+  udp.send(sender.rtcp_port(), bad_version);
+  udp.send(sender.rtcp_port(), bad_length);
+  using E = drivers::ViewFeedbackError;
+  ASSERT_TRUE(wait_for([&] {
+    const RtpSenderStats s = sender.stats();
+    return s.view_feedback_malformed[size_t(E::kBadVersion)] == 1 &&
+           s.view_feedback_malformed[size_t(E::kBadLength)] == 1;
+  }));
+  const uint64_t pushed = sender.stats().frames_pushed;
+  ASSERT_TRUE(wait_for([&] { return sender.stats().frames_pushed >= pushed + 3; }));
+  EXPECT_TRUE(sender.stats().needed);  // ignored: still full rate
+  EXPECT_EQ(sender.stats().frames_skipped_not_needed, 0u);
+  EXPECT_EQ(sender.stats().view_feedback_received, 0u);
+
+  // "Not needed", repeated as a station does: frames are skipped.
+  uint16_t seq = 10;
+  ASSERT_TRUE(wait_for([&] {
+    udp.send(sender.rtcp_port(), message(false, seq++));
+    return sender.stats().frames_skipped_not_needed >= 10;
+  }));
+  EXPECT_FALSE(sender.stats().needed);
+  EXPECT_EQ(sender.stats().key_frames_forced, 0u);
+  // Silence: after view_feedback_timeout_s the camera is needed again, with a key frame.
+  ASSERT_TRUE(wait_for([&] { return sender.stats().needed; }));
+  ASSERT_TRUE(wait_for([&] { return sender.stats().key_frames >= 2; }));
+  EXPECT_EQ(sender.stats().key_frames_forced, 1u);
+  run = false;
+  producer.join();
+  sender.stop();
+}
+
+}  // namespace
+}  // namespace hd::remote
