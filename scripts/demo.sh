@@ -22,6 +22,7 @@ case "${1:-}" in
     ;;
 esac
 bash scripts/setup.sh
+. scripts/lib/two-process.sh
 export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build -j"$(nproc)" --target hybrid-station hybrid-remote hybrid-geom hybrid-fig3
@@ -32,40 +33,12 @@ if [ "$single" = 1 ]; then
   echo "== station: scenes/default.yaml, 20 s at 90 Hz, stereo, CPU compositor, headless, cameras simulated in-process =="
   ./build/bin/hybrid-station run --scene scenes/default.yaml --headless --rate 90 --out out/demo
 else
-  # Camera i goes to PORT + 2 i (RTCP on the next port): a free run of 16 loopback UDP ports, so
-  # a second demo (or a test) beside this one does not collide.
-  port=$(python3 - <<'EOF'
-import socket
-for base in range(5600, 6600, 16):
-    socks = []
-    try:
-        for p in range(base, base + 16):
-            s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-            socks.append(s)
-            s.bind(("127.0.0.1", p))
-    except OSError:
-        continue
-    finally:
-        for s in socks:
-            s.close()
-    print(base)
-    break
-EOF
-)
+  # Camera i goes to PORT + 2 i (RTCP on the next port).
+  port=$(free_udp_block 5600 6600)
   [ -n "$port" ] || { echo "demo: no 16 free UDP ports on 127.0.0.1 in 5600..6599" >&2; exit 1; }
   # Scene t = 0 a few seconds ahead on CLOCK_REALTIME, given to both: the station's head and the
   # objects the remote's cameras see follow one scene clock, and both programs are up by then.
   epoch=$(python3 -c 'import time; print("%.3f" % (time.time() + 4))')
-  remote_pid=""
-  stop_remote() {
-    if [ -n "$remote_pid" ] && kill -0 "$remote_pid" 2>/dev/null; then
-      kill -TERM "$remote_pid" 2>/dev/null || true
-      for _ in $(seq 50); do kill -0 "$remote_pid" 2>/dev/null || break; sleep 0.1; done
-      kill -KILL "$remote_pid" 2>/dev/null || true
-      wait "$remote_pid" 2>/dev/null || true
-    fi
-    remote_pid=""
-  }
   trap stop_remote EXIT
   trap 'exit 130' INT TERM
   echo "== remote: hybrid-remote --scene scenes/default.yaml -> rtp://127.0.0.1:$port (+2 per camera), log out/demo/remote.log =="

@@ -11,35 +11,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/view-bandwidth}
 mkdir -p "$out"
-port=$(python3 - <<'PY'
-import socket
-for base in range(6600, 7600, 16):
-    socks = []
-    try:
-        for p in range(base, base + 16):
-            s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-            socks.append(s)
-            s.bind(("127.0.0.1", p))
-    except OSError:
-        continue
-    finally:
-        for s in socks:
-            s.close()
-    print(base)
-    break
-PY
-)
+. scripts/lib/two-process.sh
+port=$(free_udp_block 6600 7600)
 [ -n "$port" ] || { echo "view-bandwidth: no 16 free UDP ports on 127.0.0.1" >&2; exit 1; }
-remote_pid=""
-stop_remote() {
-  if [ -n "$remote_pid" ] && kill -0 "$remote_pid" 2>/dev/null; then
-    kill -TERM "$remote_pid" 2>/dev/null || true
-    for _ in $(seq 50); do kill -0 "$remote_pid" 2>/dev/null || break; sleep 0.1; done
-    kill -KILL "$remote_pid" 2>/dev/null || true
-    wait "$remote_pid" 2>/dev/null || true
-  fi
-  remote_pid=""
-}
 trap stop_remote EXIT
 for mode in follow full; do
   flag=""

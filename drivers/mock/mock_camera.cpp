@@ -121,14 +121,16 @@ void MockCamera::run() {
   for (uint64_t seq = 0; running_.load(std::memory_order_relaxed); ++seq) {
     const Slot slot = next;
     next = slot_of(seq + 1);
-    if (config_.drop_on_overrun && monotonic_now_ns() >= next.due_ns) {
-      overruns_.fetch_add(1, std::memory_order_relaxed);
-      dropped_.fetch_add(1, std::memory_order_relaxed);
-      continue;
-    }
+    // A scripted drop is the sensor's own and is checked first: were a late slot counted as an
+    // overrun instead, the script's drops would depend on the machine's load.
     if (config_.drop_sequences.count(seq) != 0 || (config_.drop && config_.drop(seq))) {
       sleep_until(slot.due_ns, running_);
       if (!running_.load(std::memory_order_relaxed)) break;
+      dropped_.fetch_add(1, std::memory_order_relaxed);
+      continue;
+    }
+    if (config_.drop_on_overrun && monotonic_now_ns() >= next.due_ns) {
+      overruns_.fetch_add(1, std::memory_order_relaxed);
       dropped_.fetch_add(1, std::memory_order_relaxed);
       continue;
     }

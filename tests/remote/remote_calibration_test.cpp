@@ -12,18 +12,10 @@
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/sender/rtp_sender.h"
+#include "test_wait.h"
 
 namespace hd::drivers {
 namespace {
-
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 core::Pinhole example_p_c() {
   core::OpenCvIntrinsics k;
@@ -88,7 +80,7 @@ TEST(RemoteCalibration, EveryFrameArrivesWithTheSendersCalibrationAndANewOneFoll
   FrameSource source(sender);
 
   Frame got;
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     if (!cam.frames().fetch()) return false;
     got = cam.frames().latest();
     return got.calibration.present;
@@ -113,14 +105,14 @@ TEST(RemoteCalibration, EveryFrameArrivesWithTheSendersCalibrationAndANewOneFoll
   moved.t.x() += 0.05;
   ASSERT_TRUE(sender.set_calibration(*sc.p_c, moved));
   EXPECT_EQ(sender.calibration_revision(), 8u);
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     if (!cam.frames().fetch()) return false;
     got = cam.frames().latest();
     return got.calibration.present && got.calibration.revision == 8;
   }));
   EXPECT_EQ(got.calibration.T_world_cam.t, moved.t);
   // Once the new revision is shown, no frame of the old one follows.
-  ASSERT_TRUE(wait_for([&] { return cam.frames().fetch(); }));
+  ASSERT_TRUE(eventually([&] { return cam.frames().fetch(); }));
   EXPECT_EQ(cam.frames().latest().calibration.revision, 8u);
 
   const RtpCameraStats s = cam.stats();

@@ -14,20 +14,12 @@
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/app/remote_config.h"
 #include "sim/scene/config_error.h"
+#include "test_wait.h"
 
 namespace hd::remote {
 namespace {
 
 namespace fs = std::filesystem;
-
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 std::string calibration_file() {
   return std::string(HD_SOURCE_DIR) + "/scenes/station-mock/cam1.yaml";  // 320x240, pose 0.6 m
@@ -50,7 +42,7 @@ TEST(RemoteConfig, AMockCameraArrivesWithItsFilesCalibrationFromTheStream) {
   drivers::testing::ChildProcess remote(
       {HD_REMOTE_BIN, "--config", (dir / "remote.yaml").string()});
   drivers::Frame got;
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     if (!cam.frames().fetch()) return false;
     got = cam.frames().latest();
     return got.calibration.present;

@@ -12,20 +12,12 @@
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
+#include "test_wait.h"
 
 namespace hd::drivers {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 std::vector<std::string> remote_to(uint16_t port) {
   return {HD_REMOTE_BIN, "--scene", std::string(HD_SOURCE_DIR) + "/scenes/default.yaml", "--to",
@@ -71,7 +63,7 @@ TEST(RemoteFaults, LossAndJitterTableNeverPresentsOldVideoAsNew) {
         cam.start();
         testing::ChildProcess remote(remote_to(port));
         Watch w;
-        ASSERT_TRUE(wait_for([&] {
+        ASSERT_TRUE(eventually([&] {
           w.poll(cam);
           return w.shown > 0;
         })) << loss
@@ -128,13 +120,13 @@ TEST(RemoteFaults, AfterAThreeSecondCutVideoIsBackWithinOneSecond) {
   cam.start();
   testing::ChildProcess remote(remote_to(port));
   Watch w;
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     w.poll(cam);
     return w.shown >= 10;
   }));
   const auto cut = Clock::now();
   ASSERT_TRUE(cam.set_netsim_drop_probability(1.0));
-  ASSERT_TRUE(wait_for([&] { return cam.state() == SourceState::kStalled; }));
+  ASSERT_TRUE(eventually([&] { return cam.state() == SourceState::kStalled; }));
   w.poll(cam);  // what was in flight at the cut
   const uint64_t before = w.shown;
   std::this_thread::sleep_until(cut + std::chrono::seconds(3));  // the cut's length, not a sync
@@ -143,7 +135,7 @@ TEST(RemoteFaults, AfterAThreeSecondCutVideoIsBackWithinOneSecond) {
   EXPECT_EQ(cam.state(), SourceState::kStalled);
   const int64_t back_ns = monotonic_now_ns();
   ASSERT_TRUE(cam.set_netsim_drop_probability(0.0));
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     w.poll(cam);
     return w.shown > before && w.newest_ns > back_ns;
   }));
@@ -175,17 +167,17 @@ TEST(RemoteFaults, ASenderKilledAndRestartedIsShownAgainAndNothingOldIsShown) {
   Watch w;
   {
     testing::ChildProcess remote(remote_to(port));
-    ASSERT_TRUE(wait_for([&] {
+    ASSERT_TRUE(eventually([&] {
       w.poll(cam);
       return w.shown >= 10;
     }));
   }  // killed (SIGKILL): no BYE
-  ASSERT_TRUE(wait_for([&] { return cam.state() == SourceState::kStalled; }));
+  ASSERT_TRUE(eventually([&] { return cam.state() == SourceState::kStalled; }));
   w.poll(cam);
   const uint64_t before = w.shown;
   const int64_t restarted_ns = monotonic_now_ns();
   testing::ChildProcess again(remote_to(port));  // a new process: a new SSRC, new RTP times
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     w.poll(cam);
     return w.shown > before && w.newest_ns > restarted_ns;
   })) << cam.stats().bus_errors

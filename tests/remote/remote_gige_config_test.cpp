@@ -12,20 +12,12 @@
 #include "drivers/gige/fake_gige_camera.h"
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
+#include "test_wait.h"
 
 namespace hd::remote {
 namespace {
 
 namespace fs = std::filesystem;
-
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 TEST(RemoteGigeConfig, TheFakeGigeCameraArrivesWithItsFilesCalibrationFromTheStream) {
   drivers::testing::FakeGigeCamera fake("REMOTECFG");  // starts at 512x512
@@ -47,7 +39,7 @@ TEST(RemoteGigeConfig, TheFakeGigeCameraArrivesWithItsFilesCalibrationFromTheStr
   drivers::testing::ChildProcess remote(
       {HD_REMOTE_BIN, "--config", (dir / "remote.yaml").string()});
   drivers::Frame got;
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     if (!cam.frames().fetch()) return false;
     got = cam.frames().latest();
     return got.calibration.present;

@@ -12,18 +12,10 @@
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/sender/rtp_sender.h"
+#include "test_wait.h"
 
 namespace hd::drivers {
 namespace {
-
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 TEST(RemoteKeyFrame, APliFromTheStationMakesTheEncoderSendAnIdrBeforeItsPeriodicOne) {
   const uint16_t port = testing::free_rtp_port();
@@ -56,14 +48,14 @@ TEST(RemoteKeyFrame, APliFromTheStationMakesTheEncoderSendAnIdrBeforeItsPeriodic
     }
   });
 
-  ASSERT_TRUE(wait_for([&] { return cam.stats().frames_published >= 5; }));
+  ASSERT_TRUE(eventually([&] { return cam.stats().frames_published >= 5; }));
   // The station's RTCP goes where the sender's comes from: it has somewhere to send a PLI once
   // the sender's first report arrived (its RTCP interval, not the video, decides when).
-  ASSERT_TRUE(wait_for([&] { return cam.stats().feedback_targets >= 1; }));
+  ASSERT_TRUE(eventually([&] { return cam.stats().feedback_targets >= 1; }));
   const remote::RtpSenderStats before = sender.stats();
   ASSERT_EQ(before.key_frames, 1u) << "only the stream's first frame is an IDR so far";
   ASSERT_TRUE(cam.request_key_frame());
-  ASSERT_TRUE(wait_for([&] { return sender.stats().key_frames > before.key_frames; }));
+  ASSERT_TRUE(eventually([&] { return sender.stats().key_frames > before.key_frames; }));
   const remote::RtpSenderStats after = sender.stats();
   const uint64_t frames_later = after.last_key_frame_index - (before.frames_encoded - 1);
   std::printf(

@@ -15,6 +15,7 @@
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "drivers/rtp/srtp_key.h"
+#include "test_wait.h"
 
 namespace hd::drivers {
 namespace {
@@ -23,15 +24,6 @@ namespace fs = std::filesystem;
 
 constexpr const char* kKeyHex = "000102030405060708090a0b0c0d0e0f101112131415161718191a1b";
 constexpr const char* kOtherHex = "f00102030405060708090a0b0c0d0e0f101112131415161718191a1b";
-
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 class RemoteSrtp : public ::testing::Test {
  protected:
@@ -86,7 +78,7 @@ TEST_F(RemoteSrtp, TheRightKeyIsShown) {
   EXPECT_NE(cam->pipeline_description().find("srtpdec"), std::string::npos);
   EXPECT_EQ(cam->pipeline_description().find(kKeyHex), std::string::npos);
   testing::ChildProcess sender(remote(kKeyHex));
-  ASSERT_TRUE(wait_for([&] { return cam->stats().stamped_frames >= 5; }))
+  ASSERT_TRUE(eventually([&] { return cam->stats().stamped_frames >= 5; }))
       << cam->stats().packets << " packets, " << cam->stats().srtp_rejected << " rejected";
   EXPECT_GT(cam->stats().srtp_decrypted, 0u);
   EXPECT_EQ(cam->state(), SourceState::kStreaming);
@@ -95,7 +87,7 @@ TEST_F(RemoteSrtp, TheRightKeyIsShown) {
 TEST_F(RemoteSrtp, AWrongKeyIsRejectedCountedAndNeverShown) {
   auto cam = camera(kOtherHex);
   testing::ChildProcess sender(remote(kKeyHex));
-  ASSERT_TRUE(wait_for([&] { return cam->stats().srtp_rejected >= 200; }));
+  ASSERT_TRUE(eventually([&] { return cam->stats().srtp_rejected >= 200; }));
   EXPECT_EQ(cam->stats().srtp_decrypted, 0u);
   EXPECT_EQ(cam->stats().frames_published, 0u);
   EXPECT_FALSE(cam->frames().fetch());
@@ -105,7 +97,7 @@ TEST_F(RemoteSrtp, AWrongKeyIsRejectedCountedAndNeverShown) {
 TEST_F(RemoteSrtp, AStreamWithoutEncryptionIsRejectedWhereAKeyIsRequired) {
   auto cam = camera(kKeyHex);
   testing::ChildProcess sender(remote(nullptr));
-  ASSERT_TRUE(wait_for([&] { return cam->stats().srtp_rejected >= 200; }));
+  ASSERT_TRUE(eventually([&] { return cam->stats().srtp_rejected >= 200; }));
   EXPECT_EQ(cam->stats().srtp_decrypted, 0u);
   EXPECT_EQ(cam->stats().frames_published, 0u);
   EXPECT_FALSE(cam->frames().fetch());

@@ -10,18 +10,10 @@
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/sender/rtp_send_pipeline.h"
+#include "test_wait.h"
 
 namespace hd::drivers {
 namespace {
-
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 TEST(RemoteStream, TheSimulatedCamerasArriveStampedWithCaptureTimeAndCameraState) {
   const uint16_t port = testing::free_rtp_port();
@@ -36,7 +28,7 @@ TEST(RemoteStream, TheSimulatedCamerasArriveStampedWithCaptureTimeAndCameraState
   testing::ChildProcess remote({HD_REMOTE_BIN, "--scene",
                                 std::string(HD_SOURCE_DIR) + "/scenes/default.yaml", "--to",
                                 "rtp://127.0.0.1:" + std::to_string(port)});
-  ASSERT_TRUE(wait_for([&] { return cam.stats().stamped_frames >= 10; }))
+  ASSERT_TRUE(eventually([&] { return cam.stats().stamped_frames >= 10; }))
       << cam.stats().packets << " packets, " << cam.stats().unstamped_frames << " unstamped";
   ASSERT_TRUE(cam.frames().fetch());
   const int64_t fetched_ns = monotonic_now_ns();
@@ -55,7 +47,7 @@ TEST(RemoteStream, TheSimulatedCamerasArriveStampedWithCaptureTimeAndCameraState
   EXPECT_EQ(s.last_camera_index, 1);
   EXPECT_EQ(s.last_calibration_revision, 1);
   // RTCP both ways: the sender's reports arrived, and the station's feedback has a destination.
-  EXPECT_TRUE(wait_for([&] { return cam.feedback().rtcp_received_from_sender > 0; }));
+  EXPECT_TRUE(eventually([&] { return cam.feedback().rtcp_received_from_sender > 0; }));
   EXPECT_GE(cam.stats().feedback_targets, 1u);
 }
 

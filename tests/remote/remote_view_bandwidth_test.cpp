@@ -12,18 +12,10 @@
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/sender/rtp_send_config.h"
+#include "test_wait.h"
 
 namespace hd::drivers {
 namespace {
-
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 // The newest capture time a camera shows (0: none yet), polled as the render loop does.
 int64_t newest_capture(RtpCamera& cam, int64_t& newest) {
@@ -41,7 +33,7 @@ struct Rates {
 Rates measure(RtpCamera* cams[2], int64_t newest[2], double seconds) {
   const int64_t t0 = newest_capture(*cams[0], newest[0]);
   const RtpCameraStats s0[2] = {cams[0]->stats(), cams[1]->stats()};
-  EXPECT_TRUE(wait_for([&] {
+  EXPECT_TRUE(eventually([&] {
     newest_capture(*cams[1], newest[1]);
     return newest_capture(*cams[0], newest[0]) >= t0 + int64_t(seconds * 1e9);
   }));
@@ -74,7 +66,7 @@ TEST(RemoteViewBandwidth, ACameraNotNeededDropsToTheLowRateAndComesBackWithAKeyF
        "rtp://127.0.0.1:" + std::to_string(port), "--key-interval-s", "2"});
   int64_t newest[2] = {0, 0};
   for (int i = 0; i < 2; ++i)
-    ASSERT_TRUE(wait_for([&] {
+    ASSERT_TRUE(eventually([&] {
       return cams[i]->stats().frames_published >= 10 && cams[i]->stats().feedback_targets >= 1;
     })) << "camera "
         << i;
@@ -87,7 +79,7 @@ TEST(RemoteViewBandwidth, ACameraNotNeededDropsToTheLowRateAndComesBackWithAKeyF
   const int64_t low_period_ns = int64_t(default_divider / 30.0 * 1e9);
   {
     int64_t previous = newest_capture(*cams[1], newest[1]);
-    ASSERT_TRUE(wait_for([&] {
+    ASSERT_TRUE(eventually([&] {
       const int64_t before = previous;
       previous = newest_capture(*cams[1], newest[1]);
       return before != 0 && previous - before >= low_period_ns * 8 / 10;
@@ -112,7 +104,7 @@ TEST(RemoteViewBandwidth, ACameraNotNeededDropsToTheLowRateAndComesBackWithAKeyF
   const uint64_t keys = cams[1]->stats().key_frames;
   const int64_t needed_ns = monotonic_now_ns();
   cams[1]->set_view_needed(true);
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     const RtpCameraStats s = cams[1]->stats();
     return s.key_frames > keys && s.last_key_frame_capture_ns > needed_ns;
   }));

@@ -16,18 +16,10 @@
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/view_feedback.h"
 #include "remote/sender/rtp_sender.h"
+#include "test_wait.h"
 
 namespace hd::remote {
 namespace {
-
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 class Udp {  // one datagram socket, closed on destruction
  public:
@@ -78,7 +70,7 @@ TEST(RemoteViewFeedbackSender, MalformedIsCountedAndIgnoredAndSilenceMeansFullRa
       std::this_thread::sleep_for(std::chrono::milliseconds(33));  // the frame period
     }
   });
-  ASSERT_TRUE(wait_for([&] { return sender.stats().key_frames >= 1; }));
+  ASSERT_TRUE(eventually([&] { return sender.stats().key_frames >= 1; }));
 
   Udp udp;
   std::vector<uint8_t> bad_version = message(false, 1);
@@ -88,28 +80,28 @@ TEST(RemoteViewFeedbackSender, MalformedIsCountedAndIgnoredAndSilenceMeansFullRa
   udp.send(sender.rtcp_port(), bad_version);
   udp.send(sender.rtcp_port(), bad_length);
   using E = drivers::ViewFeedbackError;
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     const RtpSenderStats s = sender.stats();
     return s.view_feedback_malformed[size_t(E::kBadVersion)] == 1 &&
            s.view_feedback_malformed[size_t(E::kBadLength)] == 1;
   }));
   const uint64_t pushed = sender.stats().frames_pushed;
-  ASSERT_TRUE(wait_for([&] { return sender.stats().frames_pushed >= pushed + 3; }));
+  ASSERT_TRUE(eventually([&] { return sender.stats().frames_pushed >= pushed + 3; }));
   EXPECT_TRUE(sender.stats().needed);  // ignored: still full rate
   EXPECT_EQ(sender.stats().frames_skipped_not_needed, 0u);
   EXPECT_EQ(sender.stats().view_feedback_received, 0u);
 
   // "Not needed", repeated as a station does: frames are skipped.
   uint16_t seq = 10;
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     udp.send(sender.rtcp_port(), message(false, seq++));
     return sender.stats().frames_skipped_not_needed >= 10;
   }));
   EXPECT_FALSE(sender.stats().needed);
   EXPECT_EQ(sender.stats().key_frames_forced, 0u);
   // Silence: after view_feedback_timeout_s the camera is needed again, with a key frame.
-  ASSERT_TRUE(wait_for([&] { return sender.stats().needed; }));
-  ASSERT_TRUE(wait_for([&] { return sender.stats().key_frames >= 2; }));
+  ASSERT_TRUE(eventually([&] { return sender.stats().needed; }));
+  ASSERT_TRUE(eventually([&] { return sender.stats().key_frames >= 2; }));
   EXPECT_EQ(sender.stats().key_frames_forced, 1u);
   run = false;
   producer.join();

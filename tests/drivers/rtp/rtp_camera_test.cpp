@@ -12,6 +12,7 @@
 
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/gst_launch_sender.h"
+#include "test_wait.h"
 
 namespace hd::drivers {
 namespace {
@@ -19,15 +20,6 @@ namespace {
 using testing::GstLaunch;
 
 // Polls `f` until it holds, for up to 60 s (waits for the peer; asserts nothing about speed).
-template <class F>
-bool wait_for(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
-
 RtpReceiveConfig config_for(uint16_t port) {
   RtpReceiveConfig c;
   c.listen = {"127.0.0.1", port};
@@ -57,7 +49,7 @@ TEST(RtpCamera, ThePlainSendersFramesArriveDecodedAtTheirSizeStampedWithTheirArr
   EXPECT_EQ(cam.state(), SourceState::kStalled);  // nothing arrived yet: not streaming
   const int64_t before_ns = monotonic_now_ns();
   GstLaunch sender(testing::plain_sender_pipeline(port));
-  ASSERT_TRUE(wait_for([&] { return cam.stats().frames_published >= 5; }))
+  ASSERT_TRUE(eventually([&] { return cam.stats().frames_published >= 5; }))
       << cam.stats().packets << " packets";
   EXPECT_EQ(cam.state(), SourceState::kStreaming);
   ASSERT_TRUE(cam.frames().fetch());
@@ -84,7 +76,7 @@ TEST(RtpCamera, ThePlainSendersFramesArriveDecodedAtTheirSizeStampedWithTheirArr
 
   // The sender goes away: no frame for the stall timeout makes the camera stalled.
   sender.stop();
-  EXPECT_TRUE(wait_for([&] { return cam.state() == SourceState::kStalled; }));
+  EXPECT_TRUE(eventually([&] { return cam.state() == SourceState::kStalled; }));
   cam.stop();
   EXPECT_EQ(cam.state(), SourceState::kClosed);
 }
@@ -110,7 +102,7 @@ TEST(RtpCamera, GarbageDatagramsAreCountedByReasonAndDroppedAndVideoStillArrives
   }
   auto count = [&](RtpPacketError e) { return cam.stats().malformed[static_cast<std::size_t>(e)]; };
   // UDP on loopback may drop under load, never add: wait for all that can still come.
-  ASSERT_TRUE(wait_for([&] { return cam.stats().packets >= 4u * kEach; })) << cam.stats().packets;
+  ASSERT_TRUE(eventually([&] { return cam.stats().packets >= 4u * kEach; })) << cam.stats().packets;
   EXPECT_EQ(count(RtpPacketError::kTooShort), uint64_t{kEach});
   EXPECT_EQ(count(RtpPacketError::kBadVersion), uint64_t{kEach});
   EXPECT_EQ(count(RtpPacketError::kCsrcOverrun), uint64_t{kEach});
@@ -120,7 +112,7 @@ TEST(RtpCamera, GarbageDatagramsAreCountedByReasonAndDroppedAndVideoStillArrives
   EXPECT_NE(cam.state(), SourceState::kStreaming);
 
   GstLaunch sender(testing::plain_sender_pipeline(port));
-  ASSERT_TRUE(wait_for([&] { return cam.stats().frames_published >= 3; }));
+  ASSERT_TRUE(eventually([&] { return cam.stats().frames_published >= 3; }));
   EXPECT_EQ(cam.stats().bus_errors, 0u);
 }
 
@@ -131,7 +123,7 @@ TEST(RtpCamera, AFrameOfAnotherSizeIsNeverPublishedAndIsAFormatEvent) {
   cam.negotiate({640, 480, {}, 0.0});  // calibrated at 640x480; the sender sends 320x240
   cam.start();
   GstLaunch sender(testing::plain_sender_pipeline(port));
-  ASSERT_TRUE(wait_for([&] { return cam.stats().wrong_format >= 3; }));
+  ASSERT_TRUE(eventually([&] { return cam.stats().wrong_format >= 3; }));
   EXPECT_EQ(cam.state(), SourceState::kFormatMismatch);
   EXPECT_EQ(cam.stats().frames_published, 0u);
   EXPECT_FALSE(cam.frames().fetch());

@@ -1,5 +1,6 @@
 #pragma once
-// Polls a condition for up to 60 s: waits for a device thread, asserts nothing about speed.
+// Polls a condition for up to 60 s: waits for a device thread or a peer, asserts nothing about
+// speed (the bound only ends a hang; the suite must pass with the CPUs saturated).
 #include <chrono>
 #include <thread>
 
