@@ -26,4 +26,9 @@ RtpPacketError check_h264_payload(std::span<const uint8_t> payload) {
   return RtpPacketError::kH264BadType;  // 0, 25 (STAP-B), 26/27 (MTAP), 29 (FU-B), 30, 31
 }
 
+RtpPacketError check_h264_rtx_payload(std::span<const uint8_t> payload) {
+  if (payload.size() < 3) return RtpPacketError::kH264Empty;  // OSN and at least one NAL byte
+  return check_h264_payload(payload.subspan(2));
+}
+
 }  // namespace hd::drivers

@@ -15,4 +15,8 @@ namespace hd::drivers {
 /// data) without both start and end bits; otherwise why not (RtpPacketError::kH264*).
 RtpPacketError check_h264_payload(std::span<const uint8_t> payload);
 
+/// The same for a retransmission (RFC 4588 §4): the original sequence number (2 bytes), then the
+/// original payload, which is what must pass check_h264_payload. Shorter than 3 bytes: kH264Empty.
+RtpPacketError check_h264_rtx_payload(std::span<const uint8_t> payload);
+
 }  // namespace hd::drivers

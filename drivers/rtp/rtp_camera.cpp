@@ -345,6 +345,13 @@ void RtpCamera::bus_loop() {
   }
 }
 
+// A retransmission carries the original sequence number before the original payload: checked
+// as H.264 from there (the two bytes read as a NAL header would refuse nearly every repair).
+RtpPacketError RtpCamera::check_payload(const RtpPacketView& view) const {
+  return view.payload_type == config_.rtx_payload_type ? check_h264_rtx_payload(view.payload)
+                                                       : check_h264_payload(view.payload);
+}
+
 GstPadProbeReturn RtpCamera::rtp_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self) {
   return static_cast<RtpCamera*>(self)->on_rtp_packet(GST_PAD_PROBE_INFO_BUFFER(info));
 }
@@ -372,7 +379,7 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
     }
   }
   // With SRTP the payload is still encrypted here: on_decrypted() checks it.
-  if (e == RtpPacketError::kNone && !config_.srtp_key) e = check_h264_payload(view.payload);
+  if (e == RtpPacketError::kNone && !config_.srtp_key) e = check_payload(view);
   gst_buffer_unmap(buffer, &map);
   if (e != RtpPacketError::kNone) {
     malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
@@ -387,7 +394,7 @@ GstPadProbeReturn RtpCamera::on_decrypted(GstBuffer* buffer) {
   if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_DROP;
   RtpPacketView view;
   RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
-  if (e == RtpPacketError::kNone) e = check_h264_payload(view.payload);
+  if (e == RtpPacketError::kNone) e = check_payload(view);
   gst_buffer_unmap(buffer, &map);
   if (e != RtpPacketError::kNone) {  // authentic but malformed: counted as malformed only
     malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);

@@ -185,6 +185,7 @@ class RtpCamera final : public CameraSource {
   void teardown();
   void bus_loop();
   void on_sample(GstElement* sink);
+  RtpPacketError check_payload(const RtpPacketView& view) const;
   GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
   GstPadProbeReturn on_decrypted(GstBuffer* buffer);
   void on_depay_packet(GstBuffer* buffer);
@@ -217,7 +218,7 @@ class RtpCamera final : public CameraSource {
   bool has_ssrc_ = false;
   uint32_t ssrc_ = 0;
   int64_t ssrc_seen_ns_ = 0;
-  std::string feedback_to_;  // RTCP source thread: where feedback goes now
+  std::string feedback_to_;   // RTCP source thread: where feedback goes now
   void send_view_feedback();  // any thread; takes view_mutex_
   std::mutex view_mutex_;
   std::string view_host_;  // where the sender's RTCP comes from (under view_mutex_)

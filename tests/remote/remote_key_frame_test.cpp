@@ -37,7 +37,16 @@ TEST(RemoteKeyFrame, APliFromTheStationMakesTheEncoderSendAnIdrBeforeItsPeriodic
   sender.start();
 
   std::atomic<bool> run{true};
-  std::thread producer([&] {  // a live camera at 30 Hz with moving content
+  std::thread producer;
+  struct StopProducer {  // also when an assertion returns early: a joinable thread would abort
+    std::atomic<bool>& run;
+    std::thread& thread;
+    ~StopProducer() {
+      run = false;
+      if (thread.joinable()) thread.join();
+    }
+  } stop_producer{run, producer};
+  producer = std::thread([&] {  // a live camera at 30 Hz with moving content
     Frame f;
     f.allocate_rgba(sc.width_px, sc.height_px);
     for (uint8_t n = 0; run; ++n) {
@@ -52,8 +61,12 @@ TEST(RemoteKeyFrame, APliFromTheStationMakesTheEncoderSendAnIdrBeforeItsPeriodic
   // The station's RTCP goes where the sender's comes from: it has somewhere to send a PLI once
   // the sender's first report arrived (its RTCP interval, not the video, decides when).
   ASSERT_TRUE(eventually([&] { return cam.stats().feedback_targets >= 1; }));
+  // Periodic IDRs are 600 frames apart, so every IDR after the first was asked for: on a loaded
+  // machine the station may already have asked on its own (a lost packet, a stall).
   const remote::RtpSenderStats before = sender.stats();
-  ASSERT_EQ(before.key_frames, 1u) << "only the stream's first frame is an IDR so far";
+  std::printf("IDRs before the request: %llu (the first, and %llu the station asked for itself)\n",
+              static_cast<unsigned long long>(before.key_frames),
+              static_cast<unsigned long long>(before.key_frames - 1));
   ASSERT_TRUE(cam.request_key_frame());
   ASSERT_TRUE(eventually([&] { return sender.stats().key_frames > before.key_frames; }));
   const remote::RtpSenderStats after = sender.stats();

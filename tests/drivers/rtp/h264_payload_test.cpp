@@ -38,5 +38,20 @@ TEST(H264Payload, WhatTheDepayloaderMishandlesIsRefusedByName) {
             "H.264 FU-A too short or both start and end");
 }
 
+// RFC 4588: a retransmission's payload is the original sequence number, then the original
+// payload; read as H.264 from its first byte, OSN 0x0000 would be NAL type 0 and refused.
+TEST(H264Payload, ARetransmissionIsCheckedAfterItsOriginalSequenceNumber) {
+  const std::vector<uint8_t> fu_a_start{0x00, 0x00, 0x7C, 0x85, 0xB8};
+  EXPECT_EQ(check_h264_rtx_payload(fu_a_start), RtpPacketError::kNone);
+  EXPECT_EQ(check_h264_payload(fu_a_start), RtpPacketError::kH264BadType);
+  const std::vector<uint8_t> stap_a{0x12, 0x34, 0x78, 0, 3, 0x67, 0x42, 0x00, 0, 2, 0x68, 0xCE};
+  EXPECT_EQ(check_h264_rtx_payload(stap_a), RtpPacketError::kNone);
+  const std::vector<uint8_t> short_fu_a{0x00, 0x07, 0x7C};  // the crash case, behind an OSN
+  EXPECT_EQ(check_h264_rtx_payload(short_fu_a), RtpPacketError::kH264BadFragment);
+  for (std::size_t n = 0; n < 3; ++n)
+    EXPECT_EQ(check_h264_rtx_payload(std::span(fu_a_start).first(n)), RtpPacketError::kH264Empty)
+        << n;
+}
+
 }  // namespace
 }  // namespace hd::drivers
