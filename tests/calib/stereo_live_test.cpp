@@ -318,12 +318,14 @@ TEST(StereoLive, NoBoardInBothImagesOfAnyPairIsAFailure) {
       " --right-camera " + q(replay(data_dir("webcam-7x7"), "left0[1-3]*")) + " " + kBoardArgs +
       " --out-left " + q(dir.path() / "L.yml") + " --out-right " + q(dir.path() / "R.yml"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  for (int i = 1; i <= 3; ++i)
-    EXPECT_NE(r.output.find("[0/15] pair " + std::to_string(i) + " (frames " + std::to_string(i) +
-                            " + " + std::to_string(i) + ", 0.0 ms apart): board found / no board"),
-              std::string::npos)
-        << i << "\n"
-        << r.output;
+  // The right verdict is "no board", or "detection timed out" when a starved CPU lets the SB
+  // detector's search run past its deadline: either way not found, so the board is in one image.
+  for (int i = 1; i <= 3; ++i) {
+    const std::string n = std::to_string(i);
+    const std::regex line("\\[0/15\\] pair " + n + " \\(frames " + n + " \\+ " + n +
+                          ", 0\\.0 ms apart\\): board found / [^\\n]*, board in one image only;");
+    EXPECT_TRUE(std::regex_search(r.output, line)) << i << "\n" << r.output;
+  }
   EXPECT_NE(r.output.find("3 board in one image only"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("error: no 9x6 board found in both images of any of the 3 pairs from "
                           "cameras replay:"),
