@@ -66,8 +66,10 @@ class FrameFeed {
       return Poll::kSilent;
     }
     if (std::chrono::steady_clock::now() - last_new_ > max_silence_) {
-      why_silent_ = "delivered nothing new for " +
-                    std::to_string(std::chrono::duration<double>(max_silence_).count()) + " s";
+      char buf[80];
+      std::snprintf(buf, sizeof buf, "delivered nothing new for %.1f s",
+                    std::chrono::duration<double>(max_silence_).count());
+      why_silent_ = buf;
       return Poll::kSilent;
     }
     return Poll::kNothingNew;

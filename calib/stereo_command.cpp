@@ -229,12 +229,13 @@ int run_live(const Args& a, const Board& board, const DistortionModel& model) {
   opt.min_move_fraction = a.min_move;
   const auto deadline = std::chrono::steady_clock::now() + opt.max_duration;
   int shown = 0;
+  char tolerance[64] = "half a frame period";
+  if (a.sync_tolerance_ms > 0)
+    std::snprintf(tolerance, sizeof tolerance, "%.1f ms", a.sync_tolerance_ms);
   std::printf(
       "live capture from %s (left) and %s (right): need %d varied pairs of the %dx%d board, "
       "frames paired by exposure time within %s\n",
-      ids[0].c_str(), ids[1].c_str(), opt.target_views, board.cols, board.rows,
-      a.sync_tolerance_ms > 0 ? (std::to_string(a.sync_tolerance_ms) + " ms").c_str()
-                              : "half a frame period");
+      ids[0].c_str(), ids[1].c_str(), opt.target_views, board.cols, board.rows, tolerance);
   std::fflush(stdout);
   StereoLiveResult res =
       collect_live_pairs(*cams[0], *cams[1], board, opt, [&](const StereoLiveStatus& st) {
@@ -280,7 +281,7 @@ int run_live(const Args& a, const Board& board, const DistortionModel& model) {
                  res.unsynchronised);
     return kFailed;
   }
-  if (res.left.empty() && res.too_similar == 0) {
+  if (res.left.empty()) {
     std::fprintf(stderr,
                  "error: no %dx%d board found in both images of any of the %d pairs from "
                  "cameras %s and %s (in one image only: %d; is --board the number of INNER "
