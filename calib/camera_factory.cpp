@@ -1,7 +1,13 @@
 #include "calib/camera_factory.h"
 
+#include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <stdexcept>
+
+#include "calib/image_set.h"
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/replay/replay_camera.h"
 
 #ifdef HD_CALIB_HAVE_V4L2
 #include "drivers/v4l2/v4l2_camera.h"
@@ -25,6 +31,7 @@ namespace {
 
 constexpr const char* kV4l2Prefix = "/dev/video";
 constexpr const char* kMockId = "mock";
+constexpr const char* kReplayPrefix = "replay:";
 
 // "WxH" with both sides positive and small enough that width * height * 4 cannot overflow.
 bool parse_size(const std::string& s, int& w, int& h) {
@@ -39,6 +46,38 @@ bool parse_size(const std::string& s, int& w, int& h) {
   return number(s.substr(0, x), w) && number(s.substr(x + 1), h);
 }
 
+// True when all of `s` is one finite number (strtod's syntax).
+bool parse_number(const std::string& s, double& out) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  out = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size() && std::isfinite(out);
+}
+
+// Every replay camera of this program exposes on one grid, as cameras on one trigger would: t = 0
+// is the first replay camera's start, so a left and a right camera started a few milliseconds
+// apart still take picture k at the same instant.
+int64_t replay_rig_epoch_ns() {
+  static const int64_t epoch_ns = drivers::monotonic_now_ns();
+  return epoch_ns;
+}
+
+// The pictures as the replay driver wants them: loaded by calib's reader (the driver decodes
+// nothing), gray, rows packed.
+std::vector<drivers::ReplayImage> load_replay_images(const ReplayId& r) {
+  std::vector<drivers::ReplayImage> out;
+  for (const NamedImage& im : load_image_set(r.folder, r.pattern)) {
+    drivers::ReplayImage ri;
+    ri.name = im.name;
+    ri.width = im.gray.cols;
+    ri.height = im.gray.rows;
+    const cv::Mat packed = im.gray.isContinuous() ? im.gray : im.gray.clone();
+    ri.gray.assign(packed.datastart, packed.dataend);
+    out.push_back(std::move(ri));
+  }
+  return out;
+}
+
 [[noreturn, maybe_unused]] void not_built(const std::string& id, const char* driver) {
   throw drivers::DeviceError("camera " + id + ": the " + driver +
                              " driver is not built into this program");
@@ -46,8 +85,44 @@ bool parse_size(const std::string& s, int& w, int& h) {
 
 }  // namespace
 
+ReplayId parse_replay_id(const std::string& id) {
+  const auto bad = [&](const std::string& why) {
+    return std::invalid_argument("malformed id " + id + ": " + why +
+                                 "; expected replay:DIR/GLOB[@RATE_HZ[+-OFFSET_MS]], e.g. "
+                                 "replay:data/left*.jpg@15 or replay:data/right*.jpg@15+50");
+  };
+  if (id.rfind(kReplayPrefix, 0) != 0) throw bad("not a replay id");
+  std::string path = id.substr(std::string(kReplayPrefix).size());
+  ReplayId r;
+  const auto at = path.rfind('@');
+  if (at != std::string::npos) {
+    const std::string tail = path.substr(at + 1);
+    path.resize(at);
+    const auto sign = tail.find_first_of("+-", 1);
+    const std::string rate = tail.substr(0, sign);
+    if (!parse_number(rate, r.rate_hz) || !(r.rate_hz > 0 && r.rate_hz <= 1000))
+      throw bad("rate '" + rate + "' is not a number of Hz in (0, 1000]");
+    if (sign != std::string::npos) {
+      const std::string offset = tail.substr(sign);
+      if (!parse_number(offset, r.offset_ms) || std::abs(r.offset_ms) > 60000)
+        throw bad("offset '" + offset + "' is not a number of ms within +-60000");
+    }
+  }
+  if (path.empty()) throw bad("no folder or pictures named");
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    r.folder = path;
+  } else {
+    const std::filesystem::path p(path);
+    r.folder = p.has_parent_path() ? p.parent_path().string() : ".";
+    r.pattern = p.filename().string();
+  }
+  return r;
+}
+
 CameraKind camera_kind(const std::string& id) {
   if (id.rfind(kV4l2Prefix, 0) == 0) return CameraKind::kV4l2;
+  if (id.rfind(kReplayPrefix, 0) == 0) return CameraKind::kReplay;
   if (drivers::is_rtp_id(id)) return CameraKind::kRtp;
   if (id == kMockId || id.rfind(std::string(kMockId) + ":", 0) == 0) return CameraKind::kMock;
   return CameraKind::kGige;
@@ -90,6 +165,16 @@ std::unique_ptr<drivers::CameraSource> make_camera_source(const std::string& id)
 #else
       not_built(id, "network camera (GStreamer RTP)");
 #endif
+    }
+    case CameraKind::kReplay: {
+      const ReplayId r = parse_replay_id(id);
+      drivers::ReplayCameraConfig c;
+      c.id = id;
+      c.rate_hz = r.rate_hz;
+      c.offset_ns = static_cast<int64_t>(std::llround(r.offset_ms * 1e6));
+      c.load = [r] { return load_replay_images(r); };
+      c.epoch_ns = replay_rig_epoch_ns;
+      return std::make_unique<drivers::ReplayCamera>(std::move(c));
     }
     case CameraKind::kGige: {
 #ifdef HD_CALIB_HAVE_GIGE

@@ -314,8 +314,9 @@ void add_intrinsics_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--pattern", args->pattern, "only files whose name matches, e.g. 'left*'")
       ->capture_default_str();
   auto* cam = cmd->add_option("--camera", args->camera,
-                              "live camera: /dev/videoN, mock[:WxH] or a GigE id "
-                              "(e.g. Aravis-Fake-SERIAL)");
+                              "live camera: /dev/videoN, mock[:WxH], a GigE id "
+                              "(e.g. Aravis-Fake-SERIAL), rtp://HOST:PORT or "
+                              "replay:DIR/GLOB[@RATE_HZ] (pictures played as a camera)");
   src->excludes(cam);
   cmd->add_option("--board", args->board, "inner corners COLSxROWS, e.g. 9x6")->required();
   cmd->add_option("--square", args->square_m, "square size in metres, e.g. 0.025")->required();

@@ -40,6 +40,11 @@ class Mailbox {
     return true;
   }
 
+  /// Producer: true when the consumer has fetched the last published value (or nothing was
+  /// published yet). Lets a source that must not lose values (a replayed recording) wait for the
+  /// consumer instead of overwriting.
+  bool taken() const { return (state_.load(std::memory_order_acquire) & kFresh) == 0; }
+
   /// Consumer: the value taken by the last successful fetch().
   const T& latest() const { return slots_[front_]; }
   T& latest_mut() { return slots_[front_]; }
