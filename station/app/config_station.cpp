@@ -102,6 +102,9 @@ std::string format_refusal(const CameraConfig& cc, const drivers::FormatNegotiat
     case calib::CameraKind::kRtp:
       how = "make the sender send " + calibrated;
       break;
+    case calib::CameraKind::kReplay:
+      how = "replay pictures of " + calibrated;
+      break;
   }
   return "calibrated at " + calibrated + " (" + cc.calibration_file + "), but the camera " +
          verdict.problem + ". Recalibrate it at " + delivered +
