@@ -52,6 +52,7 @@ int64_t realtime_minus_monotonic_ns() {
 RtpCamera::RtpCamera(RtpReceiveConfig config)
     : config_(std::move(config)),
       mailbox_(std::make_unique<Mailbox<Frame>>()),
+      stream_guard_(config_.stall_timeout_ns),
       clock_(config_.clock_drift_ppm) {
   format_.pixel_format = PixelFormat::kRgba8;
 }
@@ -345,6 +346,16 @@ void RtpCamera::bus_loop() {
   }
 }
 
+int64_t RtpCamera::arrival_ns(GstBuffer* buffer) const {
+  const int64_t now = monotonic_now_ns();
+  GstClockTime t = GST_BUFFER_DTS(buffer);
+  if (!GST_CLOCK_TIME_IS_VALID(t)) t = GST_BUFFER_PTS(buffer);
+  const GstClockTime base = pipeline_ != nullptr ? gst_element_get_base_time(pipeline_) : 0;
+  if (!GST_CLOCK_TIME_IS_VALID(t) || base == 0 || !GST_CLOCK_TIME_IS_VALID(base)) return now;
+  const int64_t arrival = int64_t(t + base);
+  return arrival <= now ? arrival : now;  // a stamp in the future is not an arrival
+}
+
 GstPadProbeReturn RtpCamera::rtp_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self) {
   return static_cast<RtpCamera*>(self)->on_rtp_packet(GST_PAD_PROBE_INFO_BUFFER(info));
 }
@@ -359,20 +370,16 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
   if (e == RtpPacketError::kNone && view.payload_type != config_.payload_type &&
       view.payload_type != config_.rtx_payload_type)
     e = RtpPacketError::kOtherPayloadType;
-  if (e == RtpPacketError::kNone && view.payload_type == config_.payload_type) {
-    // One media SSRC at a time; another is taken once the current one has been silent for the
-    // stall timeout (a restarted sender), so a stray packet cannot restart the pipeline.
-    const int64_t now = monotonic_now_ns();
-    if (has_ssrc_ && view.ssrc != ssrc_ && now - ssrc_seen_ns_ < config_.stall_timeout_ns) {
-      e = RtpPacketError::kOtherSsrc;
-    } else {
-      has_ssrc_ = true;
-      ssrc_ = view.ssrc;
-      ssrc_seen_ns_ = now;
-    }
-  }
   // With SRTP the payload is still encrypted here: on_decrypted() checks it.
   if (e == RtpPacketError::kNone && !config_.srtp_key) e = check_h264_payload(view.payload);
+  // Last, so that only packets otherwise passed on move it: one media SSRC at a time, with
+  // sequence numbers and RTP times its sender can send (RtpStreamGuard). With a key only
+  // authenticated packets may move it: on_decrypted().
+  if (e == RtpPacketError::kNone && view.payload_type == config_.payload_type &&
+      !config_.srtp_key) {
+    e = stream_guard_.check(view, arrival_ns(buffer));
+    stream_resyncs_.store(stream_guard_.resyncs(), std::memory_order_relaxed);
+  }
   gst_buffer_unmap(buffer, &map);
   if (e != RtpPacketError::kNone) {
     malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
@@ -388,6 +395,10 @@ GstPadProbeReturn RtpCamera::on_decrypted(GstBuffer* buffer) {
   RtpPacketView view;
   RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
   if (e == RtpPacketError::kNone) e = check_h264_payload(view.payload);
+  if (e == RtpPacketError::kNone && view.payload_type == config_.payload_type) {
+    e = stream_guard_.check(view, arrival_ns(buffer));
+    stream_resyncs_.store(stream_guard_.resyncs(), std::memory_order_relaxed);
+  }
   gst_buffer_unmap(buffer, &map);
   if (e != RtpPacketError::kNone) {  // authentic but malformed: counted as malformed only
     malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
@@ -840,6 +851,7 @@ RtpCameraStats RtpCamera::stats() const {
     s.malformed_total += s.malformed[i];
   }
   s.accepted = well_formed_.load(std::memory_order_relaxed);
+  s.sequence_resyncs = stream_resyncs_.load(std::memory_order_relaxed);
   s.frames_published = frames_published_.load(std::memory_order_relaxed);
   s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
   s.bus_errors = bus_errors_.load(std::memory_order_relaxed);

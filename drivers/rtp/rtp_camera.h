@@ -18,6 +18,7 @@
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
+#include "drivers/rtp/rtp_stream_guard.h"
 #include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
@@ -50,6 +51,10 @@ struct RtpCameraStats {
   std::array<uint64_t, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
   uint64_t malformed_total = 0;
   uint64_t accepted = 0;  ///< passed on to GStreamer: packets = accepted + malformed_total
+  /// Times the stream's sequence numbering was taken anew because two consecutive packets
+  /// continued a jump (RtpStreamGuard: a sender that renumbered); the jump's first packet is
+  /// counted in malformed[kSequenceJump].
+  uint64_t sequence_resyncs = 0;
   uint64_t frames_published = 0;
   uint64_t wrong_format = 0;  ///< decoded frames of another size than negotiated (not published)
   uint64_t bus_errors = 0;    ///< GStreamer errors (each restarts the pipeline)
@@ -213,11 +218,13 @@ class RtpCamera final : public CameraSource {
   bool format_lost_ = false;
 
   std::atomic<uint64_t> packets_{0}, bytes_{0}, feedback_targets_{0};
-  // The media SSRC taken (udpsrc's streaming thread).
-  bool has_ssrc_ = false;
-  uint32_t ssrc_ = 0;
-  int64_t ssrc_seen_ns_ = 0;
-  std::string feedback_to_;  // RTCP source thread: where feedback goes now
+  // The media SSRC, sequence numbers and RTP times taken (udpsrc's streaming thread, or
+  // srtpdec's with a key: one thread either way).
+  RtpStreamGuard stream_guard_;
+  std::atomic<uint64_t> stream_resyncs_{0};
+  // udpsrc's arrival stamp of `buffer` on CLOCK_MONOTONIC (the pipeline clock), or now.
+  int64_t arrival_ns(GstBuffer* buffer) const;
+  std::string feedback_to_;   // RTCP source thread: where feedback goes now
   void send_view_feedback();  // any thread; takes view_mutex_
   std::mutex view_mutex_;
   std::string view_host_;  // where the sender's RTCP comes from (under view_mutex_)
