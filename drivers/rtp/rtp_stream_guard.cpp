@@ -9,6 +9,7 @@ void RtpStreamGuard::take(const RtpPacketView& p, int64_t arrival_ns) {
   max_ts_ = p.timestamp;
   last_ns_ = arrival_ns;
   candidate_ = false;
+  gap_pending_ = false;
 }
 
 RtpPacketError RtpStreamGuard::check(const RtpPacketView& p, int64_t arrival_ns) {
@@ -40,9 +41,19 @@ RtpPacketError RtpStreamGuard::check(const RtpPacketView& p, int64_t arrival_ns)
   const int64_t ahead_limit =
       kMaxRtpTimeAhead + (elapsed_ns > 0 ? elapsed_ns * kClockRateHz / 1'000'000'000 : 0);
   if (ts_delta < -kMaxRtpTimeBehind || ts_delta > ahead_limit) return RtpPacketError::kRtpTimeJump;
-  if (seq_delta > 0) {
+  // The highest number moves with the next packet, or after a gap once a second packet agrees
+  // (is ahead of the first within the window): a stray number taken within the window alone
+  // never moves it, so strays cannot ratchet it away from the stream.
+  const bool agrees =
+      gap_pending_ && static_cast<int16_t>(static_cast<uint16_t>(p.sequence - gap_seq_)) > 0 &&
+      static_cast<int16_t>(static_cast<uint16_t>(p.sequence - gap_seq_)) <= kMaxSequenceJump;
+  if (seq_delta == 1 || (seq_delta > 1 && agrees)) {
     max_seq_ = p.sequence;
     max_ts_ = p.timestamp;
+    gap_pending_ = false;
+  } else if (seq_delta > 1) {
+    gap_pending_ = true;
+    gap_seq_ = p.sequence;
   }
   last_ns_ = arrival_ns;
   return RtpPacketError::kNone;

@@ -15,7 +15,9 @@
 // sequence number (a loss) or up to kMaxMisorder behind it (reordered, duplicated) is the
 // stream's; one further away is refused unless the next packet follows it (seq + 1, RTP time
 // close): two consecutive packets are a sender that renumbered, and the stream resynchronises
-// to them (counted). An accepted sequence number must also bring a plausible RTP time: at most
+// to them (counted). The highest number moves with each next packet, and past a gap only when a
+// second packet agrees, so that stray numbers taken within the window cannot carry it away from
+// the stream's. An accepted sequence number must also bring a plausible RTP time: at most
 // kMaxRtpTimeBehind behind the highest packet's, and at most kMaxRtpTimeAhead plus the arrival
 // time passed since the last accepted packet ahead of it (90 kHz clock). After silence_ns
 // without an accepted packet (a cut link, a restarted sender) any packet starts the stream
@@ -32,7 +34,10 @@ namespace hd::drivers {
 class RtpStreamGuard {
  public:
   static constexpr int kMaxSequenceJump = 128;  ///< packets ahead: a loss burst at most this long
-  static constexpr int kMaxMisorder = 100;      ///< packets behind (RFC 3550 A.1's MAX_MISORDER)
+  /// Packets behind: as far as a jump ahead may go (RFC 3550 A.1 has 100), so that the stream
+  /// still passes behind a stray packet taken within kMaxSequenceJump (the jitter buffer then
+  /// drops what it has already passed as late).
+  static constexpr int kMaxMisorder = kMaxSequenceJump;
   static constexpr int64_t kClockRateHz = 90'000;       ///< H.264's RTP clock (RFC 6184)
   static constexpr int64_t kMaxRtpTimeAhead = 90'000;   ///< 1 s beyond the arrival time passed
   static constexpr int64_t kMaxRtpTimeBehind = 90'000;  ///< 1 s
@@ -56,6 +61,9 @@ class RtpStreamGuard {
   uint16_t max_seq_ = 0;  // the highest sequence number accepted
   uint32_t max_ts_ = 0;   // the RTP time of that packet
   int64_t last_ns_ = 0;   // arrival of the last accepted packet
+  // A packet taken ahead of the highest after a gap, waiting for a second one to agree.
+  bool gap_pending_ = false;
+  uint16_t gap_seq_ = 0;
   // A refused jump: the sequence number and RTP time the next packet must have to confirm it.
   bool candidate_ = false;
   uint16_t candidate_seq_ = 0;
