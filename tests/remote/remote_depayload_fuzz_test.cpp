@@ -437,8 +437,8 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
   std::printf(
       "%llu datagrams sent (%llu mutated), %llu received: %llu malformed (%llu sequence jumps, "
       "%llu RTP time jumps, %llu other SSRC), %llu to GStreamer, %llu renumberings taken; "
-      "%llu frames published, %llu shown during the fuzz, %llu not newer dropped, %llu bus "
-      "errors, %llu older shown as new\n",
+      "%llu frames published, %llu shown during the fuzz, %llu not newer dropped, %llu of "
+      "another size, %llu key frames decoded, %llu bus errors, %llu older shown as new\n",
       static_cast<unsigned long long>(sent), static_cast<unsigned long long>(m.mutated()),
       static_cast<unsigned long long>(s.packets),
       static_cast<unsigned long long>(s.malformed_total), reason(RtpPacketError::kSequenceJump),
@@ -447,7 +447,8 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
       static_cast<unsigned long long>(s.sequence_resyncs),
       static_cast<unsigned long long>(s.frames_published),
       static_cast<unsigned long long>(shown_in_fuzz), static_cast<unsigned long long>(s.not_newer),
-      static_cast<unsigned long long>(s.bus_errors),
+      static_cast<unsigned long long>(s.wrong_format),
+      static_cast<unsigned long long>(s.key_frames), static_cast<unsigned long long>(s.bus_errors),
       static_cast<unsigned long long>(older_than_shown));
   std::printf(
       "clean stream back: video again %.3f s later, the frame shown captured %.3f s after the "
