@@ -136,8 +136,16 @@ void RtpCamera::build() {
       g_signal_connect(rtpbin, "new-jitterbuffer",
                        G_CALLBACK(+[](GstElement*, GstElement* jb, guint, guint, gpointer self) {
                          const RtpReceiveConfig& c = static_cast<RtpCamera*>(self)->config_;
+                         // No timer for "the next packet is due": it is due one packet spacing
+                         // after the last, an estimate the jitter buffer only corrects from a
+                         // next packet that came in time. A sender whose packets once came fast
+                         // (a burst, a fuzz's replay) taught it ~1 ms; each frame's first packet
+                         // then came 33 ms later, after the 20 ms latency: declared lost, dropped
+                         // as late, the frame lost, and the estimate never corrected (only key
+                         // frames were shown). A loss is found from the gap the next packet
+                         // leaves instead (rtx-delay-reorder).
                          g_object_set(jb, "rtx-delay", c.rtx_delay_ms, "rtx-delay-reorder",
-                                      c.rtx_delay_reorder, nullptr);
+                                      c.rtx_delay_reorder, "rtx-next-seqnum", FALSE, nullptr);
                        }),
                        this);
     GstElement* session = nullptr;  // session 0 exists: the RTCP pads created it

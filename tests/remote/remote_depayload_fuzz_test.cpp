@@ -417,6 +417,7 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
   const uint64_t shown_in_fuzz = shown;
   const uint64_t requests_before = cam.feedback().key_frame_requests;
   const SourceState state_after_fuzz = cam.state();
+  const RtpCameraStats after_fuzz = cam.stats();
   // Then the clean stream at its frame rate, two passes of the corpus (its key frames every
   // 0.5 s): its packets carry capture times from now on (the replay stamps each packet 5 ms
   // before it leaves, as a live sender's encoder would).
@@ -459,6 +460,8 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
       static_cast<unsigned long long>(fb.key_frame_requests),
       static_cast<unsigned long long>(fb.pli_sent), static_cast<unsigned long long>(shown_clean),
       static_cast<unsigned long long>(frames_sent));
+  std::printf("clean stream: %llu of its datagrams refused\n",
+              static_cast<unsigned long long>(s.malformed_total - after_fuzz.malformed_total));
   // Every datagram is counted and accounted for (refused by reason, or passed on).
   EXPECT_EQ(s.accepted + s.malformed_total, s.packets);
   EXPECT_EQ(s.packets, sent);
