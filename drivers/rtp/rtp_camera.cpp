@@ -52,6 +52,7 @@ int64_t realtime_minus_monotonic_ns() {
 RtpCamera::RtpCamera(RtpReceiveConfig config)
     : config_(std::move(config)),
       mailbox_(std::make_unique<Mailbox<Frame>>()),
+      stream_guard_(config_.stall_timeout_ns),
       clock_(config_.clock_drift_ppm) {
   format_.pixel_format = PixelFormat::kRgba8;
 }
@@ -135,8 +136,16 @@ void RtpCamera::build() {
       g_signal_connect(rtpbin, "new-jitterbuffer",
                        G_CALLBACK(+[](GstElement*, GstElement* jb, guint, guint, gpointer self) {
                          const RtpReceiveConfig& c = static_cast<RtpCamera*>(self)->config_;
+                         // No timer for "the next packet is due": it is due one packet spacing
+                         // after the last, an estimate the jitter buffer only corrects from a
+                         // next packet that came in time. A sender whose packets once came fast
+                         // (a burst, a fuzz's replay) taught it ~1 ms; each frame's first packet
+                         // then came 33 ms later, after the 20 ms latency: declared lost, dropped
+                         // as late, the frame lost, and the estimate never corrected (only key
+                         // frames were shown). A loss is found from the gap the next packet
+                         // leaves instead (rtx-delay-reorder).
                          g_object_set(jb, "rtx-delay", c.rtx_delay_ms, "rtx-delay-reorder",
-                                      c.rtx_delay_reorder, nullptr);
+                                      c.rtx_delay_reorder, "rtx-next-seqnum", FALSE, nullptr);
                        }),
                        this);
     GstElement* session = nullptr;  // session 0 exists: the RTCP pads created it
@@ -352,6 +361,49 @@ RtpPacketError RtpCamera::check_payload(const RtpPacketView& view) const {
                                                        : check_h264_payload(view.payload);
 }
 
+int64_t RtpCamera::arrival_ns(GstBuffer* buffer) const {
+  const int64_t now = monotonic_now_ns();
+  GstClockTime t = GST_BUFFER_DTS(buffer);
+  if (!GST_CLOCK_TIME_IS_VALID(t)) t = GST_BUFFER_PTS(buffer);
+  const GstClockTime base = pipeline_ != nullptr ? gst_element_get_base_time(pipeline_) : 0;
+  if (!GST_CLOCK_TIME_IS_VALID(t) || base == 0 || !GST_CLOCK_TIME_IS_VALID(base)) return now;
+  const int64_t arrival = int64_t(t + base);
+  return arrival <= now ? arrival : now;  // a stamp in the future is not an arrival
+}
+
+void RtpCamera::note_arrival(uint16_t sequence, int64_t arrival_ns) {
+  const uint64_t us = arrival_ns > 0 ? uint64_t(arrival_ns) / 1000 : 0;
+  arrivals_[sequence % arrivals_.size()].store((us << 16) | sequence, std::memory_order_relaxed);
+}
+
+int64_t RtpCamera::arrival_of(uint16_t sequence, int64_t now_ns) const {
+  const uint64_t v = arrivals_[sequence % arrivals_.size()].load(std::memory_order_relaxed);
+  if (v == 0 || uint16_t(v & 0xFFFF) != sequence) return 0;
+  // Rounded down to the microsecond, so never after the moment udpsrc stamped it. An entry more
+  // than a second old is of an earlier round of the numbers (or of a renumbered stream).
+  const int64_t arrival = int64_t(v >> 16) * 1000;
+  return arrival <= now_ns && now_ns - arrival < 1'000'000'000 ? arrival : 0;
+}
+
+RtpCamera::StampSlot& RtpCamera::stamp_slot(uint64_t pts, int64_t arrival_ns, int64_t now_ns) {
+  for (StampSlot& s : stamps_)
+    if (s.pts == pts) {  // a later packet of the frame (in the jitter buffer's order)
+      if (arrival_ns != 0 && (s.arrival_ns == 0 || arrival_ns < s.arrival_ns))
+        s.arrival_ns = arrival_ns;
+      // Received when its last packet is through, as "sent" is its last packet's: the first
+      // packet may be through before the last was even sent.
+      s.received_ns = std::max(s.received_ns, now_ns);
+      return s;
+    }
+  StampSlot& s = stamps_[stamp_next_];
+  stamp_next_ = (stamp_next_ + 1) % stamps_.size();
+  s = {};
+  s.pts = pts;
+  s.received_ns = now_ns;
+  s.arrival_ns = arrival_ns;
+  return s;
+}
+
 GstPadProbeReturn RtpCamera::rtp_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self) {
   return static_cast<RtpCamera*>(self)->on_rtp_packet(GST_PAD_PROBE_INFO_BUFFER(info));
 }
@@ -366,20 +418,18 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
   if (e == RtpPacketError::kNone && view.payload_type != config_.payload_type &&
       view.payload_type != config_.rtx_payload_type)
     e = RtpPacketError::kOtherPayloadType;
-  if (e == RtpPacketError::kNone && view.payload_type == config_.payload_type) {
-    // One media SSRC at a time; another is taken once the current one has been silent for the
-    // stall timeout (a restarted sender), so a stray packet cannot restart the pipeline.
-    const int64_t now = monotonic_now_ns();
-    if (has_ssrc_ && view.ssrc != ssrc_ && now - ssrc_seen_ns_ < config_.stall_timeout_ns) {
-      e = RtpPacketError::kOtherSsrc;
-    } else {
-      has_ssrc_ = true;
-      ssrc_ = view.ssrc;
-      ssrc_seen_ns_ = now;
-    }
-  }
   // With SRTP the payload is still encrypted here: on_decrypted() checks it.
   if (e == RtpPacketError::kNone && !config_.srtp_key) e = check_payload(view);
+  // Last, so that only packets otherwise passed on move it: one media SSRC at a time, with
+  // sequence numbers and RTP times its sender can send (RtpStreamGuard). With a key only
+  // authenticated packets may move it: on_decrypted().
+  if (e == RtpPacketError::kNone && view.payload_type == config_.payload_type &&
+      !config_.srtp_key) {
+    const int64_t arrival = arrival_ns(buffer);
+    e = stream_guard_.check(view, arrival);
+    stream_resyncs_.store(stream_guard_.resyncs(), std::memory_order_relaxed);
+    if (e == RtpPacketError::kNone) note_arrival(view.sequence, arrival);
+  }
   gst_buffer_unmap(buffer, &map);
   if (e != RtpPacketError::kNone) {
     malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
@@ -395,6 +445,12 @@ GstPadProbeReturn RtpCamera::on_decrypted(GstBuffer* buffer) {
   RtpPacketView view;
   RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
   if (e == RtpPacketError::kNone) e = check_payload(view);
+  if (e == RtpPacketError::kNone && view.payload_type == config_.payload_type) {
+    const int64_t arrival = arrival_ns(buffer);
+    e = stream_guard_.check(view, arrival);
+    stream_resyncs_.store(stream_guard_.resyncs(), std::memory_order_relaxed);
+    if (e == RtpPacketError::kNone) note_arrival(view.sequence, arrival);
+  }
   gst_buffer_unmap(buffer, &map);
   if (e != RtpPacketError::kNone) {  // authentic but malformed: counted as malformed only
     malformed_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
@@ -471,6 +527,13 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
     ce = read_packet_calibration(view, stamp.camera, calibration);
   }
   gst_buffer_unmap(buffer, &map);
+  const GstClockTime pts = GST_BUFFER_PTS(buffer);
+  const int64_t now = monotonic_now_ns();
+  if (parsed && GST_CLOCK_TIME_IS_VALID(pts)) {  // every packet: when its frame came in
+    const int64_t arrival = arrival_of(view.sequence, now);
+    std::lock_guard lock(stamp_mutex_);
+    stamp_slot(pts, arrival, now);
+  }
   if (!parsed || !view.has_extension) return;  // a plain sender: nothing to read
   if (ce != CalibrationError::kNone) {
     calibration_errors_[static_cast<std::size_t>(ce)].fetch_add(1, std::memory_order_relaxed);
@@ -497,30 +560,23 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
     std::lock_guard lock(clock_mutex_);
     clock_.add_round_trip(int64_t(stamp.stages->round_trip_us) * 1000);
   }
-  const GstClockTime pts = GST_BUFFER_PTS(buffer);
   if (!GST_CLOCK_TIME_IS_VALID(pts)) return;
   const ClockMapping m = clock_mapping();
   const int64_t capture_mono = *stamp.capture_unix_ns + m.offset_ns;
   const int64_t encoded =
       stamp.stages ? capture_mono + int64_t(stamp.stages->encoded_us) * 1000 : 0;
   const int64_t sent = stamp.stages ? capture_mono + int64_t(stamp.stages->sent_us) * 1000 : 0;
-  const int64_t now = monotonic_now_ns();
   const bool has_revision = stamp.camera.has_value();
   const uint32_t revision = has_revision ? stamp.camera->calibration_revision : 0;
   std::lock_guard lock(stamp_mutex_);
-  for (StampSlot& s : stamps_)
-    if (s.pts == pts) {  // a later packet of the frame: the frame was sent with its last one
-      s.capture_mono_ns = capture_mono;
-      s.encoded_ns = encoded;
-      s.sent_ns = std::max(s.sent_ns, sent);
-      s.uncertainty_ns = m.uncertainty_ns;
-      s.has_revision = has_revision;
-      s.revision = revision;
-      return;
-    }
-  stamps_[stamp_next_] = {pts, capture_mono, encoded, sent, now, m.uncertainty_ns,
-                          0,   has_revision, revision};
-  stamp_next_ = (stamp_next_ + 1) % stamps_.size();
+  StampSlot& slot = stamp_slot(pts, 0, now);
+  // The frame was sent with its last packet: each later one's stamp replaces the earlier.
+  slot.capture_mono_ns = capture_mono;
+  slot.encoded_ns = encoded;
+  slot.sent_ns = std::max(slot.sent_ns, sent);
+  slot.uncertainty_ns = m.uncertainty_ns;
+  slot.has_revision = has_revision;
+  slot.revision = revision;
 }
 
 ClockMapping RtpCamera::clock_mapping() const {
@@ -579,9 +635,12 @@ void RtpCamera::on_decoded(GstBuffer* buffer) {
       s.decoded_ns = now;
       return;
     }
-  // A plain sender's frame has no slot yet: one for its decode time only.
-  stamps_[stamp_next_] = {pts, 0, 0, 0, 0, -1, now, false, 0};
+  // A frame whose packets left no slot (gone from the ring): one for its decode time only.
+  StampSlot& slot = stamps_[stamp_next_];
   stamp_next_ = (stamp_next_ + 1) % stamps_.size();
+  slot = {};
+  slot.pts = pts;
+  slot.decoded_ns = now;
 }
 
 GstFlowReturn RtpCamera::new_sample_cb(GstElement* sink, gpointer self) {
@@ -654,14 +713,7 @@ void RtpCamera::on_sample(GstElement* sink) {
     std::memcpy(slot.data.data() + std::size_t(y) * slot.stride_bytes,
                 src + std::size_t(y) * src_stride, std::size_t(w) * 4);
   gst_video_frame_unmap(&vf);
-  // Arrival on the pipeline clock (CLOCK_MONOTONIC): the buffer's running time plus base time.
-  int64_t arrival_ns = now;
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
-  const GstClockTime base = gst_element_get_base_time(sink);
-  if (GST_CLOCK_TIME_IS_VALID(pts) && GST_CLOCK_TIME_IS_VALID(base)) {
-    const int64_t t = static_cast<int64_t>(pts + base);
-    if (t <= now) arrival_ns = t;  // never later than now: a time in the future is not honest
-  }
   int64_t capture_ns = 0;
   bool stamped = false;
   slot.calibration = {};
@@ -681,6 +733,15 @@ void RtpCamera::on_sample(GstElement* sink) {
           }
       }
   }
+  // Arrival: udpsrc's stamp of the frame's earliest packet. Not the buffer's PTS: the jitter
+  // buffer's skew-smoothed output time may lie after the frame was even decoded (a capture or
+  // decode time before "arrival" was seen under load). Without one (a frame of retransmissions
+  // only), the moment its last packet reached the depayloader, which is after its arrival.
+  int64_t arrival_ns = now;
+  if (stages.arrival_ns != 0 && stages.arrival_ns <= now)
+    arrival_ns = stages.arrival_ns;
+  else if (stages.received_ns != 0 && stages.received_ns <= now)
+    arrival_ns = stages.received_ns;
   if (slot.calibration.present &&
       (slot.calibration.p_c.width != w || slot.calibration.p_c.height != h)) {
     calibration_size_mismatch_.fetch_add(1, std::memory_order_relaxed);
@@ -847,6 +908,7 @@ RtpCameraStats RtpCamera::stats() const {
     s.malformed_total += s.malformed[i];
   }
   s.accepted = well_formed_.load(std::memory_order_relaxed);
+  s.sequence_resyncs = stream_resyncs_.load(std::memory_order_relaxed);
   s.frames_published = frames_published_.load(std::memory_order_relaxed);
   s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
   s.bus_errors = bus_errors_.load(std::memory_order_relaxed);

@@ -18,6 +18,7 @@
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
+#include "drivers/rtp/rtp_stream_guard.h"
 #include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
@@ -26,11 +27,15 @@ namespace hd::drivers {
 /// known: a plain sender stamps no encode or send time).
 struct RtpFrameTiming {
   uint64_t sequence = 0;
-  int64_t capture_ns = 0;    ///< the sender's capture time, mapped (or the arrival if unstamped)
-  int64_t encoded_ns = 0;    ///< the sender's encoder output (capture + its sender-stages offset)
-  int64_t sent_ns = 0;       ///< its last packet left the sender's payloader (likewise)
-  int64_t arrival_ns = 0;    ///< udpsrc's arrival time, as the jitter buffer gives it (its PTS)
-  int64_t received_ns = 0;   ///< its first packet left the jitter buffer (0: a plain sender)
+  int64_t capture_ns = 0;  ///< the sender's capture time, mapped (or the arrival if unstamped)
+  int64_t encoded_ns = 0;  ///< the sender's encoder output (capture + its sender-stages offset)
+  int64_t sent_ns = 0;     ///< its last packet left the sender's payloader (likewise)
+  /// udpsrc's arrival stamp of its earliest packet (read when udpsrc took it off the socket,
+  /// before rtpbin), or received_ns when none is known (a frame of retransmissions only).
+  int64_t arrival_ns = 0;
+  /// its last packet left the jitter buffer (at the depayloader): received whole, as sent_ns is
+  /// its last packet leaving the sender
+  int64_t received_ns = 0;
   int64_t decoded_ns = 0;    ///< avdec_h264 output it
   int64_t published_ns = 0;  ///< converted to RGBA and in the mailbox
   /// capture_ns (and so encoded_ns, sent_ns) is true to within this (-1 unknown); 0 unstamped.
@@ -50,6 +55,10 @@ struct RtpCameraStats {
   std::array<uint64_t, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
   uint64_t malformed_total = 0;
   uint64_t accepted = 0;  ///< passed on to GStreamer: packets = accepted + malformed_total
+  /// Times the stream's sequence numbering was taken anew because two consecutive packets
+  /// continued a jump (RtpStreamGuard: a sender that renumbered); the jump's first packet is
+  /// counted in malformed[kSequenceJump].
+  uint64_t sequence_resyncs = 0;
   uint64_t frames_published = 0;
   uint64_t wrong_format = 0;  ///< decoded frames of another size than negotiated (not published)
   uint64_t bus_errors = 0;    ///< GStreamer errors (each restarts the pipeline)
@@ -214,10 +223,12 @@ class RtpCamera final : public CameraSource {
   bool format_lost_ = false;
 
   std::atomic<uint64_t> packets_{0}, bytes_{0}, feedback_targets_{0};
-  // The media SSRC taken (udpsrc's streaming thread).
-  bool has_ssrc_ = false;
-  uint32_t ssrc_ = 0;
-  int64_t ssrc_seen_ns_ = 0;
+  // The media SSRC, sequence numbers and RTP times taken (udpsrc's streaming thread, or
+  // srtpdec's with a key: one thread either way).
+  RtpStreamGuard stream_guard_;
+  std::atomic<uint64_t> stream_resyncs_{0};
+  // udpsrc's arrival stamp of `buffer` on CLOCK_MONOTONIC (the pipeline clock), or now.
+  int64_t arrival_ns(GstBuffer* buffer) const;
   std::string feedback_to_;   // RTCP source thread: where feedback goes now
   void send_view_feedback();  // any thread; takes view_mutex_
   std::mutex view_mutex_;
@@ -253,7 +264,8 @@ class RtpCamera final : public CameraSource {
     uint64_t pts = ~0ull;
     int64_t capture_mono_ns = 0;
     int64_t encoded_ns = 0, sent_ns = 0;  // 0: no sender-stages element
-    int64_t received_ns = 0;              // its first packet at the depayloader
+    int64_t received_ns = 0;              // its last packet at the depayloader
+    int64_t arrival_ns = 0;               // udpsrc's stamp of its earliest packet (0 unknown)
     int64_t uncertainty_ns = -1;
     int64_t decoded_ns = 0;
     bool has_revision = false;  // the packets' camera-state revision
@@ -273,6 +285,15 @@ class RtpCamera final : public CameraSource {
   uint8_t last_round_trip_count_ = 0;  // depayloader thread
   std::atomic<uint64_t> sender_reports_{0};
   std::array<StampSlot, 16> stamps_{};
+  // udpsrc's arrival stamp of each media packet passed on, by sequence number, for the
+  // depayloader's side (the jitter buffer replaces the buffer's timestamps with its own estimate,
+  // which may lie after the frame was decoded): (arrival in us << 16) | sequence, one atomic
+  // store (udpsrc's thread) and load (the jitter buffer's). 48 bits of microseconds last 8 years.
+  std::array<std::atomic<uint64_t>, 1024> arrivals_{};
+  void note_arrival(uint16_t sequence, int64_t arrival_ns);
+  int64_t arrival_of(uint16_t sequence, int64_t now_ns) const;  // 0: not known (any more)
+  // Finds or makes the slot of `pts` (under stamp_mutex_) and notes a packet's arrival in it.
+  StampSlot& stamp_slot(uint64_t pts, int64_t arrival_ns, int64_t now_ns);
   std::size_t stamp_next_ = 0;
   mutable std::mutex error_mutex_;
   std::string last_error_;

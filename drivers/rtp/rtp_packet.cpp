@@ -69,6 +69,10 @@ std::string_view to_string(RtpPacketError e) {
       return "another payload type than the stream's";
     case RtpPacketError::kOtherSsrc:
       return "another SSRC while the stream's is live";
+    case RtpPacketError::kSequenceJump:
+      return "sequence number jumps implausibly for the stream";
+    case RtpPacketError::kRtpTimeJump:
+      return "RTP time jumps implausibly for the stream";
     case RtpPacketError::kH264Empty:
       return "H.264 payload empty or its forbidden bit set";
     case RtpPacketError::kH264BadType:

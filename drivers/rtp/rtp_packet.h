@@ -22,6 +22,10 @@ enum class RtpPacketError : uint8_t {
   // nothing is linked to stops the pipeline, so one such packet would restart the camera.
   kOtherPayloadType,  ///< neither the stream's payload type nor its RTX payload type
   kOtherSsrc,         ///< another SSRC while the stream's own is live (a sender restarting waits)
+  // The stream's own SSRC with numbers no live sender sends (RtpStreamGuard): rtpjitterbuffer
+  // would ask for every packet of a wild sequence gap again and stop passing packets on.
+  kSequenceJump,  ///< sequence number too far ahead of or behind the stream's (not confirmed)
+  kRtpTimeJump,   ///< RTP time too far from the stream's for the time that passed
   // The H.264 payload (RFC 6184, check_h264_payload in h264_payload.h):
   kH264Empty,         ///< no payload, or its forbidden bit set
   kH264BadType,       ///< NAL type 0, 30, 31 (undefined), or STAP-B, MTAP, FU-B (mode 1 has none)
