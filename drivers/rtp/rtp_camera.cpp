@@ -529,54 +529,50 @@ void RtpCamera::on_depay_packet(GstBuffer* buffer) {
   gst_buffer_unmap(buffer, &map);
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
   const int64_t now = monotonic_now_ns();
-  if (parsed && GST_CLOCK_TIME_IS_VALID(pts)) {  // every packet: when its frame came in
-    const int64_t arrival = arrival_of(view.sequence, now);
-    std::lock_guard lock(stamp_mutex_);
-    stamp_slot(pts, arrival, now);
-  }
-  if (!parsed || !view.has_extension) return;  // a plain sender: nothing to read
-  if (ce != CalibrationError::kNone) {
+  const bool timed = parsed && GST_CLOCK_TIME_IS_VALID(pts);
+  const int64_t arrival = timed ? arrival_of(view.sequence, now) : 0;
+  const bool extended = parsed && view.has_extension;  // else a plain sender: nothing to read
+  if (extended && ce != CalibrationError::kNone)
     calibration_errors_[static_cast<std::size_t>(ce)].fetch_add(1, std::memory_order_relaxed);
-  } else if (calibration) {
+  else if (extended && calibration)
     calibrations_received_.fetch_add(1, std::memory_order_relaxed);
-    std::lock_guard lock(stamp_mutex_);
+  const bool stamped = extended && e == StampError::kNone;
+  if (extended && !stamped)
+    stamp_errors_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
+  if (stamped && stamp.camera) {
+    last_camera_index_.store(stamp.camera->camera_index, std::memory_order_relaxed);
+    last_revision_.store(stamp.camera->calibration_revision, std::memory_order_relaxed);
+  }
+  if (stamped && stamp.stages && stamp.stages->round_trip_count != 0 &&
+      stamp.stages->round_trip_count != last_round_trip_count_) {  // a new round trip
+    last_round_trip_count_ = stamp.stages->round_trip_count;
+    std::lock_guard lock(clock_mutex_);
+    clock_.add_round_trip(int64_t(stamp.stages->round_trip_us) * 1000);
+  }
+  const ClockMapping m = stamped && timed ? clock_mapping() : ClockMapping{};
+  std::lock_guard lock(stamp_mutex_);  // the calibrations and the frame's slot, in one go
+  if (extended && ce == CalibrationError::kNone && calibration) {
     if (!calibrations_[0] || calibrations_[0]->revision != calibration->revision) {
       for (std::size_t i = calibrations_.size() - 1; i > 0; --i)
         calibrations_[i] = calibrations_[i - 1];
     }
     calibrations_[0] = calibration;
   }
-  if (e != StampError::kNone) {
-    stamp_errors_[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
-    return;
-  }
-  if (stamp.camera) {
-    last_camera_index_.store(stamp.camera->camera_index, std::memory_order_relaxed);
-    last_revision_.store(stamp.camera->calibration_revision, std::memory_order_relaxed);
-  }
-  if (stamp.stages && stamp.stages->round_trip_count != 0 &&
-      stamp.stages->round_trip_count != last_round_trip_count_) {  // a new round trip
-    last_round_trip_count_ = stamp.stages->round_trip_count;
-    std::lock_guard lock(clock_mutex_);
-    clock_.add_round_trip(int64_t(stamp.stages->round_trip_us) * 1000);
-  }
-  if (!GST_CLOCK_TIME_IS_VALID(pts)) return;
-  const ClockMapping m = clock_mapping();
-  const int64_t capture_mono = *stamp.capture_unix_ns + m.offset_ns;
-  const int64_t encoded =
-      stamp.stages ? capture_mono + int64_t(stamp.stages->encoded_us) * 1000 : 0;
-  const int64_t sent = stamp.stages ? capture_mono + int64_t(stamp.stages->sent_us) * 1000 : 0;
-  const bool has_revision = stamp.camera.has_value();
-  const uint32_t revision = has_revision ? stamp.camera->calibration_revision : 0;
-  std::lock_guard lock(stamp_mutex_);
-  StampSlot& slot = stamp_slot(pts, 0, now);
+  if (!timed) return;
+  StampSlot& slot = stamp_slot(pts, arrival, now);  // every packet: when its frame came in
+  if (!stamped) return;
   // The frame was sent with its last packet: each later one's stamp replaces the earlier.
-  slot.capture_mono_ns = capture_mono;
-  slot.encoded_ns = encoded;
-  slot.sent_ns = std::max(slot.sent_ns, sent);
+  slot.capture_mono_ns = *stamp.capture_unix_ns + m.offset_ns;
+  if (stamp.stages) {
+    slot.encoded_ns = slot.capture_mono_ns + int64_t(stamp.stages->encoded_us) * 1000;
+    slot.sent_ns =
+        std::max(slot.sent_ns, slot.capture_mono_ns + int64_t(stamp.stages->sent_us) * 1000);
+  } else {
+    slot.encoded_ns = 0;
+  }
   slot.uncertainty_ns = m.uncertainty_ns;
-  slot.has_revision = has_revision;
-  slot.revision = revision;
+  slot.has_revision = stamp.camera.has_value();
+  slot.revision = slot.has_revision ? stamp.camera->calibration_revision : 0;
 }
 
 ClockMapping RtpCamera::clock_mapping() const {

@@ -4,29 +4,18 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "drivers/hid/fake_hid_transport.h"
+#include "test_wait.h"
 
 namespace hd::drivers {
 namespace {
 
 using Bytes = std::vector<uint8_t>;
-
-// Polls a condition for up to 60 s: waits for the read thread, asserts nothing about speed.
-template <class F>
-bool eventually(F f) {
-  for (int i = 0; i < 12000; ++i) {
-    if (f()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return f();
-}
 
 Bytes android(int16_t rx, int16_t ry, int16_t rz, int16_t wx, uint8_t disc) {
   Bytes b{3};
