@@ -18,6 +18,7 @@
 #include "drivers/rtp/h264_payload.h"
 #include "drivers/rtp/rtp_aux_bin.h"
 #include "drivers/rtp/rtp_receive_pipeline.h"
+#include "drivers/rtp/srtp_elements.h"
 #include "drivers/rtp/view_feedback.h"
 
 namespace hd::drivers {
@@ -55,6 +56,7 @@ RtpCamera::RtpCamera(RtpReceiveConfig config)
       stream_guard_(config_.stall_timeout_ns),
       clock_(config_.clock_drift_ppm) {
   format_.pixel_format = PixelFormat::kRgba8;
+  if (config_.srtp_key) view_key_ = view_feedback_key(*config_.srtp_key);
 }
 
 RtpCamera::~RtpCamera() {
@@ -179,6 +181,11 @@ void RtpCamera::build() {
   if (config_.srtp_key) {
     GstElement* dec = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kSrtpDecoder);
     g_signal_connect(dec, "request-key", G_CALLBACK(&RtpCamera::request_key_cb), this);
+    // The station's own RTCP (receiver reports, NACK, PLI, which ask the sender for work) is
+    // SRTCP too: the sender takes only what this key protects.
+    GstElement* enc = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kSrtpEncoder);
+    set_srtp_encoder_key(enc, *config_.srtp_key);
+    gst_object_unref(enc);
     GstPad* out = gst_element_get_static_pad(dec, "rtp_src");
     gst_pad_add_probe(
         out, GST_PAD_PROBE_TYPE_BUFFER,
@@ -486,14 +493,7 @@ GstPadProbeReturn RtpCamera::rtcp_probe_cb(GstPad*, GstPadProbeInfo* info, gpoin
 }
 
 GstCaps* RtpCamera::request_key_cb(GstElement*, guint, gpointer self) {
-  const SrtpKey& key = *static_cast<RtpCamera*>(self)->config_.srtp_key;
-  GstBuffer* k = gst_buffer_new_memdup(key.bytes.data(), key.bytes.size());
-  GstCaps* caps = gst_caps_new_simple("application/x-srtp", "srtp-key", GST_TYPE_BUFFER, k,
-                                      "srtp-cipher", G_TYPE_STRING, "aes-128-gcm", "srtp-auth",
-                                      G_TYPE_STRING, "null", "srtcp-cipher", G_TYPE_STRING,
-                                      "aes-128-gcm", "srtcp-auth", G_TYPE_STRING, "null", nullptr);
-  gst_buffer_unref(k);
-  return caps;
+  return srtp_decoder_caps(*static_cast<RtpCamera*>(self)->config_.srtp_key);
 }
 
 GstPadProbeReturn RtpCamera::depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self) {
@@ -857,11 +857,17 @@ void RtpCamera::send_view_feedback() {
   gst_object_unref(src);
   if (socket == nullptr) return;
   GSocketAddress* to = g_inet_socket_address_new_from_string(view_host_.c_str(), view_port_);
-  uint8_t packet[kViewFeedbackSize];
-  write_view_feedback({0, need == 1, ++view_sequence_},
-                      std::span<uint8_t, kViewFeedbackSize>(packet));
-  if (to != nullptr && g_socket_send_to(socket, to, reinterpret_cast<const gchar*>(packet),
-                                        sizeof packet, nullptr, nullptr) == gssize(sizeof packet))
+  // With the stream's key the message carries a tag, so that nobody else can lower a camera.
+  uint8_t packet[kAuthenticatedViewFeedbackSize];
+  const ViewFeedback message{0, need == 1, ++view_sequence_};
+  if (view_key_)
+    write_view_feedback(message, *view_key_,
+                        std::span<uint8_t, kAuthenticatedViewFeedbackSize>(packet));
+  else
+    write_view_feedback(message, std::span<uint8_t, kViewFeedbackSize>(packet, kViewFeedbackSize));
+  const std::size_t size = view_key_ ? kAuthenticatedViewFeedbackSize : kViewFeedbackSize;
+  if (to != nullptr && g_socket_send_to(socket, to, reinterpret_cast<const gchar*>(packet), size,
+                                        nullptr, nullptr) == gssize(size))
     view_sent_.fetch_add(1, std::memory_order_relaxed);
   view_sent_ns_ = now;
   view_sent_need_ = need;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -19,6 +20,7 @@
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
 #include "drivers/rtp/rtp_stream_guard.h"
+#include "drivers/rtp/view_feedback.h"
 #include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
@@ -238,7 +240,8 @@ class RtpCamera final : public CameraSource {
   // Bus thread only: what was sent last and when (0: send at the next turn).
   int view_sent_need_ = -1;
   uint16_t view_sequence_ = 0;
-  int64_t view_sent_ns_ = 0;  // under view_mutex_ (a new sender resets it)
+  std::optional<ViewFeedbackKey> view_key_;  // from the SRTP key: the feedback is then tagged
+  int64_t view_sent_ns_ = 0;                 // under view_mutex_ (a new sender resets it)
   std::atomic<uint64_t> view_sent_{0};
   std::atomic<uint64_t> key_frames_{0};
   std::atomic<int64_t> last_key_capture_ns_{0};

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "drivers/rtp/srtp_elements.h"
+
 namespace hd::drivers {
 
 std::string receive_pipeline_description(const RtpReceiveConfig& c) {
@@ -42,8 +44,11 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
                          kSrtpDecoder + ".rtcp_src ! "
                    : std::string(" caps=application/x-rtcp ! ")) +
        kRtpBin + ".recv_rtcp_sink_0 ";
-  d += std::string(kRtpBin) + ".send_rtcp_src_0 ! multiudpsink name=" + kRtcpSink +
-       " sync=false async=false ";
+  d += std::string(kRtpBin) + ".send_rtcp_src_0 ! " +
+       (c.srtp_key ? std::string(kSrtpEncoder) + ".rtcp_sink_0 srtpenc name=" + kSrtpEncoder + " " +
+                         kSrtpEncoderCiphers + " " + kSrtpEncoder + ".rtcp_src_0 ! "
+                   : std::string()) +
+       "multiudpsink name=" + kRtcpSink + " sync=false async=false ";
   d += std::string(kRtpBin) + ". ! " + depayloader_description() + " ! " + decoder_description() +
        " ! appsink name=" + kAppSink + " sync=false max-buffers=1 drop=true";
   return d;

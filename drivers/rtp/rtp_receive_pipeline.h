@@ -18,6 +18,7 @@ inline constexpr const char* kDepayloader = "depay";
 inline constexpr const char* kDecoder = "dec";
 inline constexpr const char* kAppSink = "sink";
 inline constexpr const char* kSrtpDecoder = "srtpdec";
+inline constexpr const char* kSrtpEncoder = "srtpenc";  ///< the station's own RTCP
 inline constexpr const char* kNetsim = "netsim";
 inline constexpr const char* kRtxReceive = "rtxreceive";
 }  // namespace rtp_elements

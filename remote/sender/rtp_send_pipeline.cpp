@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "drivers/rtp/srtp_elements.h"
 #include "remote/sender/h264_encoder.h"
 
 namespace hd::remote {
@@ -38,9 +39,7 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
   // The payloader is linked to rtpbin.send_rtp_sink_0 by RtpSender after it has answered
   // rtpbin's request-aux-sender (the request is made when that pad is), see send_media_link.
   const std::string enc = kSrtpEncoder;
-  if (c.srtp_key)
-    d += "srtpenc name=" + enc +
-         " rtp-cipher=aes-128-gcm rtp-auth=null rtcp-cipher=aes-128-gcm rtcp-auth=null ";
+  if (c.srtp_key) d += "srtpenc name=" + enc + " " + drivers::kSrtpEncoderCiphers + " ";
   d += std::string(kRtpBin) + ".send_rtp_src_0 ! " +
        (c.srtp_key ? enc + ".rtp_sink_0 " + enc + ".rtp_src_0 ! " : std::string()) +
        "udpsink host=" + c.host + " port=" + std::to_string(c.port) + " sync=false async=false ";
@@ -49,9 +48,13 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
        "udpsink name=" + kRtcpOut + " host=" + c.host + " port=" + std::to_string(c.port + 1) +
        " sync=false async=false ";
   // The station's RTCP (receiver reports, NACK, PLI) comes back to the socket RTCP leaves from:
-  // RtpSender hands this udpsrc's socket to the RTCP udpsink.
-  d += std::string("udpsrc name=") + kRtcpIn + " port=0 caps=application/x-rtcp ! " + kRtpBin +
-       ".recv_rtcp_sink_0";
+  // RtpSender hands this udpsrc's socket to the RTCP udpsink. With a key it is SRTCP, and what
+  // the key does not authenticate never reaches rtpbin (a forged NACK or PLI would make work).
+  const std::string dec = kSrtcpDecoder;
+  d += std::string("udpsrc name=") + kRtcpIn + " port=0 caps=application/x-" +
+       (c.srtp_key ? "srtcp ! " + dec + ".rtcp_sink srtpdec name=" + dec + " " + dec + ".rtcp_src"
+                   : std::string("rtcp")) +
+       " ! " + kRtpBin + ".recv_rtcp_sink_0";
   return d;
 }
 

@@ -16,13 +16,15 @@ inline constexpr const char* kRtpBin = "rtpbin";
 inline constexpr const char* kSrtpEncoder = "srtpenc";
 inline constexpr const char* kRtcpOut = "rtcp_out";
 inline constexpr const char* kRtcpIn = "rtcp_in";
+inline constexpr const char* kSrtcpDecoder = "srtcpdec";  ///< the station's RTCP, with a key
 inline constexpr const char* kRtxSend = "rtxsend";
 }  // namespace send_elements
 
 /// appsrc (RGBA, live, the newest 2 frames) → videoconvert → I420 → x264enc (zerolatency,
 /// ultrafast, no B-frames, key frame every key_int_frames, VBV one frame) → rtph264pay (SPS/PPS
 /// with every IDR) → rtpbin (RTCP sender reports) → [srtpenc] → udpsink host:port; RTCP →
-/// [srtpenc] → udpsink port + 1. The key is not in the description (RtpSender sets it).
+/// [srtpenc] → udpsink port + 1; the station's RTCP → [srtpdec] → rtpbin. The key is not in the
+/// description (RtpSender sets it).
 /// The payloader's src pad is left unlinked: RtpSender links it to rtpbin's send_rtp_sink_0
 /// once it can answer rtpbin's request-aux-sender signal, which rtpbin emits when that pad is
 /// requested (gst_parse_launch would request it before any handler could be connected).

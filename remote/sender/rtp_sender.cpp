@@ -16,6 +16,7 @@
 #include "drivers/rtp/gstreamer_init.h"
 #include "drivers/rtp/rtp_aux_bin.h"
 #include "drivers/rtp/rtp_frame_stamp.h"
+#include "drivers/rtp/srtp_elements.h"
 #include "remote/sender/rtp_send_pipeline.h"
 
 namespace hd::remote {
@@ -42,6 +43,7 @@ uint32_t micros_between(int64_t from_ns, int64_t to_ns) {
 
 RtpSender::RtpSender(RtpSendConfig config)
     : config_(std::move(config)), revision_(config_.calibration_revision) {
+  if (config_.srtp_key) view_key_ = drivers::view_feedback_key(*config_.srtp_key);
   if (config_.p_c && !set_calibration(*config_.p_c, config_.T_world_cam, false))
     throw std::invalid_argument(
         "stream to " + config_.host + ":" + std::to_string(config_.port) +
@@ -101,11 +103,15 @@ void RtpSender::start() {
 
     if (config_.srtp_key) {
       GstElement* enc = by_name(pipeline_, send_elements::kSrtpEncoder);
-      GstBuffer* key =
-          gst_buffer_new_memdup(config_.srtp_key->bytes.data(), config_.srtp_key->bytes.size());
-      g_object_set(enc, "key", key, nullptr);
-      gst_buffer_unref(key);
+      drivers::set_srtp_encoder_key(enc, *config_.srtp_key);
       gst_object_unref(enc);
+      GstElement* dec = by_name(pipeline_, send_elements::kSrtcpDecoder);
+      g_signal_connect(
+          dec, "request-key", G_CALLBACK(+[](GstElement*, guint, gpointer self) -> GstCaps* {
+            return drivers::srtp_decoder_caps(*static_cast<RtpSender*>(self)->config_.srtp_key);
+          }),
+          this);
+      gst_object_unref(dec);
     }
     {  // one socket for RTCP out and in (the station answers to where our RTCP came from)
       GstElement* in = by_name(pipeline_, send_elements::kRtcpIn);
@@ -156,9 +162,11 @@ void RtpSender::start() {
       }
     }
     gst_object_unref(rtpbin);
-    {  // the station's receiver reports: the round trip (before rtpbin, which keeps its own)
-      GstElement* in = by_name(pipeline_, send_elements::kRtcpIn);
-      GstPad* pad = gst_element_get_static_pad(in, "src");
+    {  // the station's receiver reports: the round trip (before rtpbin, which keeps its own;
+       // after srtpdec, which makes them readable)
+      GstElement* in = by_name(
+          pipeline_, config_.srtp_key ? send_elements::kSrtcpDecoder : send_elements::kRtcpIn);
+      GstPad* pad = gst_element_get_static_pad(in, config_.srtp_key ? "rtcp_src" : "src");
       gst_pad_add_probe(
           pad, GST_PAD_PROBE_TYPE_BUFFER,
           [](GstPad*, GstPadProbeInfo* info, gpointer self) {
@@ -393,8 +401,8 @@ GstPadProbeReturn RtpSender::on_view_feedback(GstBuffer* buffer) {
   GstMapInfo map;
   if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) return GST_PAD_PROBE_OK;
   drivers::ViewFeedback f;
-  const drivers::ViewFeedbackError e =
-      drivers::parse_view_feedback(std::span<const uint8_t>(map.data, map.size), f);
+  const drivers::ViewFeedbackError e = drivers::parse_view_feedback(
+      std::span<const uint8_t>(map.data, map.size), view_key_ ? &*view_key_ : nullptr, f);
   gst_buffer_unmap(buffer, &map);
   if (e == drivers::ViewFeedbackError::kNotViewFeedback) return GST_PAD_PROBE_OK;  // RTCP
   if (e != drivers::ViewFeedbackError::kNone) {

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "drivers/frame.h"
@@ -105,6 +106,8 @@ class RtpSender {
   std::atomic<bool> station_needs_{true};
   std::atomic<int64_t> last_feedback_ns_{0};  // 0: none yet (full rate)
   std::atomic<int> last_sequence_{-1};
+  // With an SRTP key, only view feedback tagged with it is taken (drivers/rtp/view_feedback.h).
+  std::optional<drivers::ViewFeedbackKey> view_key_;
   std::atomic<uint64_t> feedback_received_{0};
   std::array<std::atomic<uint64_t>, static_cast<std::size_t>(drivers::ViewFeedbackError::kCount)>
       feedback_malformed_{};

@@ -15,6 +15,7 @@
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "drivers/rtp/srtp_key.h"
+#include "remote/sender/rtp_send_config.h"
 #include "test_wait.h"
 
 namespace hd::drivers {
@@ -82,6 +83,23 @@ TEST_F(RemoteSrtp, TheRightKeyIsShown) {
       << cam->stats().packets << " packets, " << cam->stats().srtp_rejected << " rejected";
   EXPECT_GT(cam->stats().srtp_decrypted, 0u);
   EXPECT_EQ(cam->state(), SourceState::kStreaming);
+  // The station's view feedback, tagged with the key, is taken by the sender: "not needed"
+  // spaces the frames out to the low rate (untagged feedback is refused there).
+  cam->set_view_needed(false);
+  const int64_t low_period_ns = int64_t(remote::RtpSendConfig{}.low_rate_divider / 30.0 * 1e9);
+  int64_t previous = 0;
+  ASSERT_TRUE(eventually([&] {
+    if (!cam->frames().fetch()) return false;
+    const int64_t before = previous;
+    previous = cam->frames().latest().host_timestamp_ns;
+    return before != 0 && previous - before >= low_period_ns * 8 / 10;
+  }));
+  EXPECT_GE(cam->feedback().view_feedback_sent, 1u);
+  // The station's receiver reports go out as SRTCP and are read by the sender (whose srtpdec
+  // passes only what the key protects): it measures the round trip and stamps it into its
+  // frames, and the station's clock mapping becomes a measured one.
+  ASSERT_TRUE(
+      eventually([&] { return cam->clock_mapping().kind == ClockMapping::Kind::kMeasured; }));
 }
 
 TEST_F(RemoteSrtp, AWrongKeyIsRejectedCountedAndNeverShown) {

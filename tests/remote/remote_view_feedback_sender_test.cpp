@@ -108,5 +108,68 @@ TEST(RemoteViewFeedbackSender, MalformedIsCountedAndIgnoredAndSilenceMeansFullRa
   sender.stop();
 }
 
+// With a key, nobody without it can lower a camera: untagged feedback and feedback tagged with
+// another key are counted by reason and change nothing; the station's own (tagged) is taken.
+TEST(RemoteViewFeedbackSender, WithAKeyOnlyFeedbackTaggedWithThatKeyIsTaken) {
+  const uint16_t port = drivers::testing::free_rtp_port();  // nobody listens: the sender only
+  ASSERT_NE(port, 0);
+  drivers::SrtpKey key, other;
+  for (std::size_t i = 0; i < key.bytes.size(); ++i) {
+    key.bytes[i] = uint8_t(0x40 + i);
+    other.bytes[i] = uint8_t(0x41 + i);
+  }
+  RtpSendConfig c;
+  c.port = port;
+  c.width_px = 160;
+  c.height_px = 120;
+  c.bitrate_kbps = 200;
+  c.srtp_key = key;
+  RtpSender sender(c);
+  sender.start();
+  ASSERT_NE(sender.rtcp_port(), 0);
+  std::atomic<bool> run{true};
+  std::thread producer([&] {
+    drivers::Frame f;
+    f.allocate_rgba(c.width_px, c.height_px);
+    while (run) {
+      f.host_timestamp_ns = drivers::monotonic_now_ns();
+      sender.push(f);
+      std::this_thread::sleep_for(std::chrono::milliseconds(33));  // the frame period
+    }
+  });
+  ASSERT_TRUE(eventually([&] { return sender.stats().frames_pushed >= 1; }));
+
+  Udp udp;
+  std::array<uint8_t, drivers::kAuthenticatedViewFeedbackSize> forged{};
+  drivers::write_view_feedback({0, false, 1}, drivers::view_feedback_key(other), forged);
+  udp.send(sender.rtcp_port(), message(false, 2));
+  udp.send(sender.rtcp_port(), forged);
+  using E = drivers::ViewFeedbackError;
+  ASSERT_TRUE(eventually([&] {
+    const RtpSenderStats s = sender.stats();
+    return s.view_feedback_malformed[size_t(E::kNotAuthenticated)] == 1 &&
+           s.view_feedback_malformed[size_t(E::kBadTag)] == 1;
+  }));
+  const uint64_t pushed = sender.stats().frames_pushed;
+  ASSERT_TRUE(eventually([&] { return sender.stats().frames_pushed >= pushed + 3; }));
+  EXPECT_TRUE(sender.stats().needed);  // refused: still full rate
+  EXPECT_EQ(sender.stats().frames_skipped_not_needed, 0u);
+  EXPECT_EQ(sender.stats().view_feedback_received, 0u);
+
+  const drivers::ViewFeedbackKey mine = drivers::view_feedback_key(key);
+  uint16_t seq = 10;
+  ASSERT_TRUE(eventually([&] {
+    std::array<uint8_t, drivers::kAuthenticatedViewFeedbackSize> b{};
+    drivers::write_view_feedback({0, false, seq++}, mine, b);
+    udp.send(sender.rtcp_port(), b);
+    return sender.stats().frames_skipped_not_needed >= 5;
+  }));
+  EXPECT_FALSE(sender.stats().needed);
+  EXPECT_GE(sender.stats().view_feedback_received, 1u);
+  run = false;
+  producer.join();
+  sender.stop();
+}
+
 }  // namespace
 }  // namespace hd::remote

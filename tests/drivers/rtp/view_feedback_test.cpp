@@ -48,8 +48,10 @@ TEST(ViewFeedback, OrdinaryRtcpIsNotTakenAndMalformedHdbwIsRefusedByReason) {
   std::vector<uint8_t> truncated(good.begin(), good.begin() + 13);
   EXPECT_EQ(parse_view_feedback(truncated, f), ViewFeedbackError::kBadLength);
   std::vector<uint8_t> version(good.begin(), good.end());
-  version[12] = 2;
+  version[12] = 3;
   EXPECT_EQ(parse_view_feedback(version, f), ViewFeedbackError::kBadVersion);
+  version[12] = 2;  // the authenticated version is 32 bytes long
+  EXPECT_EQ(parse_view_feedback(version, f), ViewFeedbackError::kBadLength);
   std::vector<uint8_t> flags(good.begin(), good.end());
   flags[13] = 0x81;
   EXPECT_EQ(parse_view_feedback(flags, f), ViewFeedbackError::kBadVersion);
@@ -77,6 +79,52 @@ TEST(ViewFeedback, MutatedMessagesNeverReadOutsideAndOnlyWellFormedOnesAreTaken)
     ASSERT_EQ(std::vector<uint8_t>(again.begin(), again.end()), m);
   }
   EXPECT_GT(taken, 0u);
+}
+
+SrtpKey test_key(uint8_t first) {
+  SrtpKey k;
+  for (std::size_t i = 0; i < k.bytes.size(); ++i) k.bytes[i] = uint8_t(first + i);
+  return k;
+}
+
+TEST(ViewFeedback, TheAuthenticatedMessageCarriesTheTagPythonsHmacGives) {
+  // Expected bytes from Python's hmac module, not from this code:
+  //   k = hmac.new(bytes(range(1, 29)), b"hybrid-display view feedback", sha256).digest()
+  //   hmac.new(k, the first 16 bytes below, sha256).digest()[:16]
+  const ViewFeedbackKey key = view_feedback_key(test_key(1));
+  std::array<uint8_t, kAuthenticatedViewFeedbackSize> b{};
+  write_view_feedback({0x01020304u, false, 0xABCD}, key, b);
+  const std::array<uint8_t, 32> expected = {0x80, 204,  0,    7,    1,    2,    3,    4,
+                                            'H',  'D',  'B',  'W',  2,    0,    0xAB, 0xCD,
+                                            0xde, 0x82, 0x80, 0x6f, 0xb1, 0x11, 0xaf, 0x10,
+                                            0xc7, 0xf1, 0x25, 0x1b, 0x9a, 0x91, 0xa6, 0xb3};
+  EXPECT_EQ(b, expected);
+  ViewFeedback f;
+  ASSERT_EQ(parse_view_feedback(b, &key, f), ViewFeedbackError::kNone);
+  EXPECT_EQ(f.ssrc, 0x01020304u);
+  EXPECT_FALSE(f.needed);
+  EXPECT_EQ(f.sequence, 0xABCD);
+}
+
+TEST(ViewFeedback, WithAKeyOnlyMessagesTaggedWithThatKeyAreTaken) {
+  const ViewFeedbackKey key = view_feedback_key(test_key(1));
+  const ViewFeedbackKey other = view_feedback_key(test_key(2));
+  ViewFeedback f;
+  std::array<uint8_t, kViewFeedbackSize> plain{};
+  write_view_feedback({0, false, 3}, plain);
+  EXPECT_EQ(parse_view_feedback(plain, &key, f), ViewFeedbackError::kNotAuthenticated);
+  std::array<uint8_t, kAuthenticatedViewFeedbackSize> tagged{};
+  write_view_feedback({0, false, 3}, other, tagged);
+  EXPECT_EQ(parse_view_feedback(tagged, &key, f), ViewFeedbackError::kBadTag);
+  write_view_feedback({0, false, 3}, key, tagged);
+  EXPECT_EQ(parse_view_feedback(tagged, f), ViewFeedbackError::kBadVersion) << "no key here";
+  ASSERT_EQ(parse_view_feedback(tagged, &key, f), ViewFeedbackError::kNone);
+  // Every single flipped bit, in the fields or in the tag, is refused.
+  for (std::size_t bit = 0; bit < tagged.size() * 8; ++bit) {
+    std::array<uint8_t, kAuthenticatedViewFeedbackSize> m = tagged;
+    m[bit / 8] ^= uint8_t(1 << (bit % 8));
+    EXPECT_NE(parse_view_feedback(m, &key, f), ViewFeedbackError::kNone) << "bit " << bit;
+  }
 }
 
 }  // namespace
