@@ -47,29 +47,58 @@ std::vector<uint8_t> message(bool needed, uint16_t sequence) {
   return {b.begin(), b.end()};
 }
 
+// A small sender fed at 30 Hz by a producer thread, as hybrid-remote feeds one; nobody listens
+// to its stream (the sender only is under test).
+class FedSender {
+ public:
+  // `adjust` sets what the test is about on a small 160x120 stream's config.
+  template <class F>
+  explicit FedSender(F adjust) : sender_(small_config(adjust)) {
+    sender_.start();
+    producer_ = std::thread([this] {
+      drivers::Frame f;
+      f.allocate_rgba(sender_.config().width_px, sender_.config().height_px);
+      while (run_) {
+        f.host_timestamp_ns = drivers::monotonic_now_ns();
+        sender_.push(f);
+        std::this_thread::sleep_for(std::chrono::milliseconds(33));  // the frame period
+      }
+    });
+  }
+  ~FedSender() {
+    run_ = false;
+    producer_.join();
+    sender_.stop();
+  }
+  FedSender(const FedSender&) = delete;
+  FedSender& operator=(const FedSender&) = delete;
+  RtpSender& operator*() { return sender_; }
+  RtpSender* operator->() { return &sender_; }
+
+ private:
+  template <class F>
+  static RtpSendConfig small_config(F adjust) {
+    RtpSendConfig c;
+    c.port = drivers::testing::free_rtp_port();
+    c.width_px = 160;
+    c.height_px = 120;
+    c.bitrate_kbps = 200;
+    adjust(c);
+    return c;
+  }
+  RtpSender sender_;
+  std::atomic<bool> run_{true};
+  std::thread producer_;
+};
+
 TEST(RemoteViewFeedbackSender, MalformedIsCountedAndIgnoredAndSilenceMeansFullRate) {
-  const uint16_t port = drivers::testing::free_rtp_port();  // nobody listens: the sender only
-  ASSERT_NE(port, 0);
-  RtpSendConfig c;
-  c.port = port;
-  c.width_px = 160;
-  c.height_px = 120;
-  c.bitrate_kbps = 200;
-  c.key_interval_s = 20.0;  // the only IDRs: the first and the forced one
-  c.view_feedback_timeout_s = 0.5;
-  RtpSender sender(c);
-  sender.start();
-  ASSERT_NE(sender.rtcp_port(), 0);
-  std::atomic<bool> run{true};
-  std::thread producer([&] {
-    drivers::Frame f;
-    f.allocate_rgba(c.width_px, c.height_px);
-    while (run) {
-      f.host_timestamp_ns = drivers::monotonic_now_ns();
-      sender.push(f);
-      std::this_thread::sleep_for(std::chrono::milliseconds(33));  // the frame period
-    }
+  FedSender fed([](RtpSendConfig& c) {
+    c.key_interval_s = 20.0;  // the only IDRs: the first and the forced one
+    c.view_feedback_timeout_s = 0.5;
   });
+  RtpSender& sender = *fed;
+  ASSERT_NE(sender.config().port, 0);
+  ASSERT_NE(sender.rtcp_port(), 0);
   ASSERT_TRUE(eventually([&] { return sender.stats().key_frames >= 1; }));
 
   Udp udp;
@@ -103,40 +132,20 @@ TEST(RemoteViewFeedbackSender, MalformedIsCountedAndIgnoredAndSilenceMeansFullRa
   ASSERT_TRUE(eventually([&] { return sender.stats().needed; }));
   ASSERT_TRUE(eventually([&] { return sender.stats().key_frames >= 2; }));
   EXPECT_EQ(sender.stats().key_frames_forced, 1u);
-  run = false;
-  producer.join();
-  sender.stop();
 }
 
 // With a key, nobody without it can lower a camera: untagged feedback and feedback tagged with
 // another key are counted by reason and change nothing; the station's own (tagged) is taken.
 TEST(RemoteViewFeedbackSender, WithAKeyOnlyFeedbackTaggedWithThatKeyIsTaken) {
-  const uint16_t port = drivers::testing::free_rtp_port();  // nobody listens: the sender only
-  ASSERT_NE(port, 0);
   drivers::SrtpKey key, other;
   for (std::size_t i = 0; i < key.bytes.size(); ++i) {
     key.bytes[i] = uint8_t(0x40 + i);
     other.bytes[i] = uint8_t(0x41 + i);
   }
-  RtpSendConfig c;
-  c.port = port;
-  c.width_px = 160;
-  c.height_px = 120;
-  c.bitrate_kbps = 200;
-  c.srtp_key = key;
-  RtpSender sender(c);
-  sender.start();
+  FedSender fed([&](RtpSendConfig& c) { c.srtp_key = key; });
+  RtpSender& sender = *fed;
+  ASSERT_NE(sender.config().port, 0);
   ASSERT_NE(sender.rtcp_port(), 0);
-  std::atomic<bool> run{true};
-  std::thread producer([&] {
-    drivers::Frame f;
-    f.allocate_rgba(c.width_px, c.height_px);
-    while (run) {
-      f.host_timestamp_ns = drivers::monotonic_now_ns();
-      sender.push(f);
-      std::this_thread::sleep_for(std::chrono::milliseconds(33));  // the frame period
-    }
-  });
   ASSERT_TRUE(eventually([&] { return sender.stats().frames_pushed >= 1; }));
 
   Udp udp;
@@ -166,9 +175,6 @@ TEST(RemoteViewFeedbackSender, WithAKeyOnlyFeedbackTaggedWithThatKeyIsTaken) {
   }));
   EXPECT_FALSE(sender.stats().needed);
   EXPECT_GE(sender.stats().view_feedback_received, 1u);
-  run = false;
-  producer.join();
-  sender.stop();
 }
 
 }  // namespace
