@@ -180,7 +180,7 @@ void RtpCamera::build() {
 
   if (config_.srtp_key) {
     GstElement* dec = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kSrtpDecoder);
-    g_signal_connect(dec, "request-key", G_CALLBACK(&RtpCamera::request_key_cb), this);
+    answer_srtp_key_requests(dec, *config_.srtp_key);
     // The station's own RTCP (receiver reports, NACK, PLI, which ask the sender for work) is
     // SRTCP too: the sender takes only what this key protects.
     GstElement* enc = gst_bin_get_by_name(GST_BIN(pipeline_), rtp_elements::kSrtpEncoder);
@@ -490,10 +490,6 @@ GstPadProbeReturn RtpCamera::rtcp_probe_cb(GstPad*, GstPadProbeInfo* info, gpoin
   }
   g_free(host);
   return GST_PAD_PROBE_OK;
-}
-
-GstCaps* RtpCamera::request_key_cb(GstElement*, guint, gpointer self) {
-  return srtp_decoder_caps(*static_cast<RtpCamera*>(self)->config_.srtp_key);
 }
 
 GstPadProbeReturn RtpCamera::depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self) {

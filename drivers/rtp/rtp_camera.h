@@ -206,7 +206,6 @@ class RtpCamera final : public CameraSource {
   static GstFlowReturn new_sample_cb(GstElement* sink, gpointer self);
   static GstPadProbeReturn rtp_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
   static GstPadProbeReturn rtcp_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self);
-  static GstCaps* request_key_cb(GstElement* srtpdec, guint ssrc, gpointer self);
 
   RtpReceiveConfig config_;
   CameraFormat format_;  // negotiated: expected size, H.264 on the wire

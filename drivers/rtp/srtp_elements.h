@@ -17,9 +17,10 @@ inline constexpr const char* kSrtpEncoderCiphers =
 /// Sets `key` on an srtpenc (before it runs).
 void set_srtp_encoder_key(GstElement* srtpenc, const SrtpKey& key);
 
-/// The caps srtpdec's "request-key" handler returns for any SSRC: one key for the stream's
-/// media, its retransmissions and both directions' RTCP. SRTP's IV includes the SSRC, so two
-/// sources under one key never share a keystream (rtpbin renumbers a colliding SSRC).
-GstCaps* srtp_decoder_caps(const SrtpKey& key);
+/// Answers an srtpdec's "request-key" for any SSRC with `key` (which must outlive the element):
+/// one key for the stream's media, its retransmissions and both directions' RTCP. SRTP's IV
+/// includes the SSRC, so two sources under one key never share a keystream (rtpbin renumbers a
+/// colliding SSRC).
+void answer_srtp_key_requests(GstElement* srtpdec, const SrtpKey& key);
 
 }  // namespace hd::drivers

@@ -106,11 +106,7 @@ void RtpSender::start() {
       drivers::set_srtp_encoder_key(enc, *config_.srtp_key);
       gst_object_unref(enc);
       GstElement* dec = by_name(pipeline_, send_elements::kSrtcpDecoder);
-      g_signal_connect(
-          dec, "request-key", G_CALLBACK(+[](GstElement*, guint, gpointer self) -> GstCaps* {
-            return drivers::srtp_decoder_caps(*static_cast<RtpSender*>(self)->config_.srtp_key);
-          }),
-          this);
+      drivers::answer_srtp_key_requests(dec, *config_.srtp_key);
       gst_object_unref(dec);
     }
     {  // one socket for RTCP out and in (the station answers to where our RTCP came from)
