@@ -38,8 +38,12 @@ BoardPose random_board_pose(const SyntheticCamera& cam, const Board& board, std:
     const double py = cam.size.height * (0.15 + 0.7 * u01(rng));
     const cv::Vec3d c((px - cam.K(0, 2)) / cam.K(0, 0) * Z, (py - cam.K(1, 2)) / cam.K(1, 1) * Z,
                       Z);
-    const cv::Matx33d R =
-        rot(tilt * (2 * u01(rng) - 1), tilt * (2 * u01(rng) - 1), (CV_PI / 6) * (2 * u01(rng) - 1));
+    // Drawn in a fixed order (function arguments are unsequenced, and GCC and clang differ):
+    // the last angle first, as GCC drew them when the tests' figures were taken.
+    const double angle_z = (CV_PI / 6) * (2 * u01(rng) - 1);
+    const double angle_y = tilt * (2 * u01(rng) - 1);
+    const double angle_x = tilt * (2 * u01(rng) - 1);
+    const cv::Matx33d R = rot(angle_x, angle_y, angle_z);
     BoardPose p;
     cv::Rodrigues(R, p.rvec);
     p.tvec = c - R * centre_local;

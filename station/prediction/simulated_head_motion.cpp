@@ -52,7 +52,9 @@ drivers::PoseSample SimulatedTracker::sample(int64_t t_ns) {
   const double t_s = static_cast<double>(t_ns) * 1e-9;
   const core::Pose truth = motion_.pose(t_s);
   auto noise3 = [this](double sd) {
-    return Eigen::Vector3d(sd * unit_(rng_), sd * unit_(rng_), sd * unit_(rng_));
+    // Fixed order (arguments are unsequenced, GCC and clang differ): z, y, x as GCC drew them.
+    const double z = sd * unit_(rng_), y = sd * unit_(rng_), x = sd * unit_(rng_);
+    return Eigen::Vector3d(x, y, z);
   };
   drivers::PoseSample s;
   const Eigen::Quaterniond q =

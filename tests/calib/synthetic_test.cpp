@@ -40,7 +40,10 @@ TEST(Synthetic, ReportedSigmaCoversTheTruth) {
     std::vector<View> views;
     for (int v = 0; v < n_views; ++v) {
       auto corners = project_corners(cam, board, random_board_pose(cam, board, rng));
-      for (auto& c : corners) c += cv::Point2f(noise(rng), noise(rng));
+      for (auto& c : corners) {
+        const float dy = noise(rng), dx = noise(rng);  // fixed order: see random_board_pose
+        c += cv::Point2f(dx, dy);
+      }
       views.push_back({"v" + std::to_string(v), corners});
     }
     const auto r = calibrate_intrinsics(views, board, cam.size, DistortionModel{});

@@ -66,10 +66,13 @@ TEST(HidParserFuzz, MillionRandomAndMutatedReportsNeverCrashAndAcceptOnlySaneOut
       } else {
         // A valid report, then mutated.
         HidSample s;
-        s.q_tracker_head = Eigen::Quaterniond(gauss(rng), gauss(rng), gauss(rng), gauss(rng));
+        // Each draw its own statement: arguments are unsequenced, and GCC and clang differ.
+        const double qz = gauss(rng), qy = gauss(rng), qx = gauss(rng), qw = gauss(rng);
+        s.q_tracker_head = Eigen::Quaterniond(qw, qx, qy, qz);
         if (s.q_tracker_head.norm() < 1e-6) s.q_tracker_head = Eigen::Quaterniond::Identity();
         s.q_tracker_head.normalize();
-        s.angular_velocity_rad_s = Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)) * 10.0;
+        const double wz = gauss(rng), wy = gauss(rng), wx = gauss(rng);
+        s.angular_velocity_rad_s = Eigen::Vector3d(wx, wy, wz) * 10.0;
         s.discontinuity = static_cast<uint8_t>(byte(rng));
         r.assign(64, 0);
         r.resize(encode_hid_report(f, s, r));
