@@ -257,7 +257,9 @@ __attribute__((target("avx2,fma"))) void radial_span_avx2(const RadialArgs& a, u
 // GCC 12 warns that its own _mm512_undefined_* pass-through operands of the unmasked
 // conversions and square root "may be used uninitialized" (a false positive in the headers).
 #pragma GCC diagnostic push
+#if !defined(__clang__)  // clang has no -Wmaybe-uninitialized and does not warn here
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #pragma GCC diagnostic ignored "-Wuninitialized"
 struct Taps16 {
   __m512i idx, wx, fy;
