@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 #include <random>
 #include <string>
+#include "test_paths.h"
 
 namespace hd::calib::test {
 
@@ -17,7 +18,7 @@ namespace fs = std::filesystem;
 
 /// The shared data set folder; FAILS (not skips) the calling test when it is missing.
 inline fs::path data_dir(const std::string& sub) {
-  const fs::path p = fs::path(HD_CALIB_DATA_DIR) / sub;
+  const fs::path p = fs::path(hd::test::calib_data_dir()) / sub;
   EXPECT_TRUE(fs::is_directory(p))
       << "calibration data missing: " << p << " (shared/ must sit beside the checkout)";
   return p;
@@ -54,7 +55,7 @@ struct RunResult {
 
 /// Runs hybrid-calib with `args` (already shell-quoted where needed).
 inline RunResult run_cli(const std::string& args) {
-  const std::string cmd = std::string("'") + HD_CALIB_EXE + "' " + args + " 2>&1";
+  const std::string cmd = std::string("'") + hd::test::calib_bin() + "' " + args + " 2>&1";
   RunResult r;
   FILE* p = ::popen(cmd.c_str(), "r");
   if (!p) return r;

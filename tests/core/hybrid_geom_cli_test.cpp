@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include "test_paths.h"
 
 namespace {
 
@@ -34,8 +35,8 @@ RunResult run(const std::string& input, bool use_stdin = false) {
   const std::string out = dir + "out_" + tag + ".txt";
   const std::string err = dir + "err_" + tag + ".txt";
   std::ofstream(in) << input;
-  const std::string cmd =
-      std::string(HYBRID_GEOM_BIN) + (use_stdin ? " - < " : " ") + in + " > " + out + " 2> " + err;
+  const std::string cmd = std::string(hd::test::geom_bin()) + (use_stdin ? " - < " : " ") + in +
+                          " > " + out + " 2> " + err;
   const int status = std::system(cmd.c_str());
   RunResult r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
   std::remove(in.c_str());
@@ -146,6 +147,6 @@ TEST(HybridGeomCli, OtherMalformedInputs) {
 }
 
 TEST(HybridGeomCli, HelpExitsZero) {
-  const std::string cmd = std::string(HYBRID_GEOM_BIN) + " --help > /dev/null";
+  const std::string cmd = std::string(hd::test::geom_bin()) + " --help > /dev/null";
   EXPECT_EQ(std::system(cmd.c_str()), 0);
 }

@@ -10,6 +10,7 @@
 #include "recon/disparity_filter.h"
 #include "recon/disparity_matcher.h"
 #include "recon/disparity_score.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -21,7 +22,7 @@ struct Aloe {
 
 // Half of Middlebury's full size; the ground truth (full-size pixels) is halved with it.
 Aloe load_aloe() {
-  const std::filesystem::path dir = std::filesystem::path(HD_STEREO_DATA_DIR) / "aloe";
+  const std::filesystem::path dir = std::filesystem::path(hd::test::stereo_data_dir()) / "aloe";
   Aloe a;
   const cv::Mat l = cv::imread((dir / "aloeL.jpg").string(), cv::IMREAD_COLOR);
   const cv::Mat r = cv::imread((dir / "aloeR.jpg").string(), cv::IMREAD_COLOR);

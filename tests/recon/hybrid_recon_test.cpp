@@ -17,6 +17,7 @@
 
 #include "recon/opencv_camera.h"
 #include "rendered_pair.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -31,7 +32,7 @@ struct ToolRun {
 
 ToolRun run_tool(const std::string& args) {
   ToolRun r;
-  const std::string cmd = std::string(HD_RECON_EXE) + " " + args + " 2>&1";
+  const std::string cmd = std::string(hd::test::recon_bin()) + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
   char buf[4096];

@@ -14,6 +14,7 @@
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/app/remote_config.h"
 #include "sim/scene/config_error.h"
+#include "test_paths.h"
 #include "test_wait.h"
 
 namespace hd::remote {
@@ -22,7 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string calibration_file() {
-  return std::string(HD_SOURCE_DIR) + "/scenes/station-mock/cam1.yaml";  // 320x240, pose 0.6 m
+  return std::string(hd::test::source_dir()) +
+         "/scenes/station-mock/cam1.yaml";  // 320x240, pose 0.6 m
 }
 
 TEST(RemoteConfig, AMockCameraArrivesWithItsFilesCalibrationFromTheStream) {
@@ -40,7 +42,7 @@ TEST(RemoteConfig, AMockCameraArrivesWithItsFilesCalibrationFromTheStream) {
       << "    id: mock:320x240\n    calibration: " << calibration_file()
       << "\n    to: rtp://127.0.0.1:" << port << "\n    rate_hz: 30\n    bitrate_kbps: 800\n";
   drivers::testing::ChildProcess remote(
-      {HD_REMOTE_BIN, "--config", (dir / "remote.yaml").string()});
+      {hd::test::remote_bin(), "--config", (dir / "remote.yaml").string()});
   drivers::Frame got;
   ASSERT_TRUE(eventually([&] {
     if (!cam.frames().fetch()) return false;
@@ -75,7 +77,7 @@ TEST(RemoteConfig, AMockCameraArrivesWithItsFilesCalibrationFromTheStream) {
 // The ConfigError of `text` as remote.yaml (expected to be refused).
 sim::ConfigError refusal(const std::string& text) {
   try {
-    parse_remote_config(text, std::string(HD_SOURCE_DIR) + "/remote/test.yaml");
+    parse_remote_config(text, std::string(hd::test::source_dir()) + "/remote/test.yaml");
   } catch (const sim::ConfigError& e) {
     return e;
   }
@@ -132,7 +134,7 @@ TEST(RemoteConfig, ABadFileIsRefusedNamingFileLineColumnFieldAndValue) {
 
 TEST(RemoteConfig, TheShippedExampleReads) {
   const RemoteConfig c =
-      load_remote_config(std::string(HD_SOURCE_DIR) + "/remote/remote-example.yaml");
+      load_remote_config(std::string(hd::test::source_dir()) + "/remote/remote-example.yaml");
   ASSERT_EQ(c.cameras.size(), 2u);
   EXPECT_EQ(c.cameras[0].id, "mock");
   EXPECT_EQ(c.cameras[0].to.port, 5600);
@@ -146,7 +148,7 @@ TEST(RemoteConfig, TheProgramRefusesABadFileWithExitCode2) {
   const fs::path f = fs::temp_directory_path() / "remote_config_test_bad.yaml";
   std::ofstream(f) << "cameras:\n  - id: mock\n    to: nowhere\n";
   const std::string cmd =
-      std::string(HD_REMOTE_BIN) + " --config " + f.string() + " 2>" + f.string() + ".err";
+      std::string(hd::test::remote_bin()) + " --config " + f.string() + " 2>" + f.string() + ".err";
   const int status = std::system(cmd.c_str());
   EXPECT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 2);

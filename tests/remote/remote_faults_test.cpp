@@ -12,6 +12,7 @@
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
+#include "test_paths.h"
 #include "test_wait.h"
 
 namespace hd::drivers {
@@ -20,7 +21,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 std::vector<std::string> remote_to(uint16_t port) {
-  return {HD_REMOTE_BIN, "--scene", std::string(HD_SOURCE_DIR) + "/scenes/default.yaml", "--to",
+  return {hd::test::remote_bin(), "--scene",
+          std::string(hd::test::source_dir()) + "/scenes/default.yaml", "--to",
           "rtp://127.0.0.1:" + std::to_string(port)};
 }
 

@@ -12,6 +12,7 @@
 #include "drivers/gige/fake_gige_camera.h"
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
+#include "test_paths.h"
 #include "test_wait.h"
 
 namespace hd::remote {
@@ -28,7 +29,8 @@ TEST(RemoteGigeConfig, TheFakeGigeCameraArrivesWithItsFilesCalibrationFromTheStr
   drivers::RtpCamera cam(rc);
   cam.open();
   cam.start();
-  const std::string cal = std::string(HD_SOURCE_DIR) + "/scenes/station-mock/cam0.yaml";  // 640x480
+  const std::string cal =
+      std::string(hd::test::source_dir()) + "/scenes/station-mock/cam0.yaml";  // 640x480
   const fs::path dir =
       fs::temp_directory_path() / ("remote_gige_config_test_" + std::to_string(port));
   fs::create_directories(dir);
@@ -37,7 +39,7 @@ TEST(RemoteGigeConfig, TheFakeGigeCameraArrivesWithItsFilesCalibrationFromTheStr
       << "    id: Aravis-Fake-REMOTECFG\n    calibration: " << cal
       << "\n    to: rtp://127.0.0.1:" << port << "\n    rate_hz: 25\n    bitrate_kbps: 1000\n";
   drivers::testing::ChildProcess remote(
-      {HD_REMOTE_BIN, "--config", (dir / "remote.yaml").string()});
+      {hd::test::remote_bin(), "--config", (dir / "remote.yaml").string()});
   drivers::Frame got;
   ASSERT_TRUE(eventually([&] {
     if (!cam.frames().fetch()) return false;

@@ -16,6 +16,7 @@
 #include "drivers/rtp/rtp_camera.h"
 #include "drivers/rtp/srtp_key.h"
 #include "remote/sender/rtp_send_config.h"
+#include "test_paths.h"
 #include "test_wait.h"
 
 namespace hd::drivers {
@@ -61,8 +62,8 @@ class RemoteSrtp : public ::testing::Test {
     return cam;
   }
   std::vector<std::string> remote(const char* hex) {
-    std::vector<std::string> a{HD_REMOTE_BIN, "--scene",
-                               std::string(HD_SOURCE_DIR) + "/scenes/default.yaml", "--to",
+    std::vector<std::string> a{hd::test::remote_bin(), "--scene",
+                               std::string(hd::test::source_dir()) + "/scenes/default.yaml", "--to",
                                "rtp://127.0.0.1:" + std::to_string(port_)};
     if (hex != nullptr) {
       a.push_back("--key-file");
@@ -134,9 +135,9 @@ TEST_F(RemoteSrtp, AKeyFileOthersCanReadIsRefusedAndNoMessageShowsTheKey) {
     EXPECT_EQ(m.find(kKeyHex), std::string::npos) << m;
   }
   // hybrid-remote refuses it too (exit 2), without printing the key.
-  const std::string cmd = std::string("'") + HD_REMOTE_BIN + "' --scene '" + HD_SOURCE_DIR +
-                          "/scenes/default.yaml' --key-file '" + open_file.string() + "' > '" +
-                          (dir_ / "out.txt").string() + "' 2>&1";
+  const std::string cmd = std::string("'") + hd::test::remote_bin() + "' --scene '" +
+                          hd::test::source_dir() + "/scenes/default.yaml' --key-file '" +
+                          open_file.string() + "' > '" + (dir_ / "out.txt").string() + "' 2>&1";
   const int status = std::system(cmd.c_str());
   EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
   std::string why;

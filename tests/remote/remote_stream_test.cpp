@@ -10,6 +10,7 @@
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/sender/rtp_send_pipeline.h"
+#include "test_paths.h"
 #include "test_wait.h"
 
 namespace hd::drivers {
@@ -25,9 +26,9 @@ TEST(RemoteStream, TheSimulatedCamerasArriveStampedWithCaptureTimeAndCameraState
   cam.negotiate({640, 480, {}, 0.0});  // scenes/default.yaml: both cameras 640x480
   cam.start();
   const int64_t before_ns = monotonic_now_ns();
-  testing::ChildProcess remote({HD_REMOTE_BIN, "--scene",
-                                std::string(HD_SOURCE_DIR) + "/scenes/default.yaml", "--to",
-                                "rtp://127.0.0.1:" + std::to_string(port)});
+  testing::ChildProcess remote({hd::test::remote_bin(), "--scene",
+                                std::string(hd::test::source_dir()) + "/scenes/default.yaml",
+                                "--to", "rtp://127.0.0.1:" + std::to_string(port)});
   ASSERT_TRUE(eventually([&] { return cam.stats().stamped_frames >= 10; }))
       << cam.stats().packets << " packets, " << cam.stats().unstamped_frames << " unstamped";
   ASSERT_TRUE(cam.frames().fetch());

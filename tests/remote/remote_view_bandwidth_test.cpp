@@ -12,6 +12,7 @@
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/sender/rtp_send_config.h"
+#include "test_paths.h"
 #include "test_wait.h"
 
 namespace hd::drivers {
@@ -64,10 +65,10 @@ TEST(RemoteViewBandwidth, ACameraNotNeededDropsToTheLowRateAndComesBackWithAKeyF
   // forced one: counted in frames, a periodic one would come up to 300 frames later.
   constexpr double kKeyIntervalS = 10.0;
   constexpr int kKeyIntervalFrames = 300;
-  testing::ChildProcess remote({HD_REMOTE_BIN, "--scene",
-                                std::string(HD_SOURCE_DIR) + "/scenes/default.yaml", "--to",
-                                "rtp://127.0.0.1:" + std::to_string(port), "--key-interval-s",
-                                std::to_string(kKeyIntervalS)});
+  testing::ChildProcess remote({hd::test::remote_bin(), "--scene",
+                                std::string(hd::test::source_dir()) + "/scenes/default.yaml",
+                                "--to", "rtp://127.0.0.1:" + std::to_string(port),
+                                "--key-interval-s", std::to_string(kKeyIntervalS)});
   int64_t newest[2] = {0, 0};
   for (int i = 0; i < 2; ++i)
     ASSERT_TRUE(eventually([&] {

@@ -7,11 +7,12 @@
 #include "render/lens/cpu_predistorter.h"
 #include "render/lens/hmd_profile_file.h"
 #include "support/gl_vs_cpu_test.h"
+#include "test_paths.h"
 
 namespace hd::render::test {
 namespace {
 
-const std::string kDir = std::string(HD_SOURCE_DIR) + "/render/lens/profiles/";
+const std::string kDir = std::string(hd::test::source_dir()) + "/render/lens/profiles/";
 
 // Smooth colour ramps (at most ~6 levels per px) with a dark blob every 64 px, different per
 // channel so a channel mix-up shows.

@@ -8,11 +8,12 @@
 #include "core/allocation_counter.h"
 #include "render/lens/cpu_predistorter.h"
 #include "render/lens/hmd_profile_file.h"
+#include "test_paths.h"
 
 namespace hd::render::lens {
 namespace {
 
-const std::string kDir = std::string(HD_SOURCE_DIR) + "/render/lens/profiles/";
+const std::string kDir = std::string(hd::test::source_dir()) + "/render/lens/profiles/";
 
 // The OSVR HDK 1.3's lens, independently of LensWarp: panel point (x, y) of eye e (half
 // coordinates, px) -> where the eye sees it, in eye-image px relative to the principal point.

@@ -6,11 +6,12 @@
 #include <string>
 
 #include "render/lens/hmd_profile_file.h"
+#include "test_paths.h"
 
 namespace hd::render::lens {
 namespace {
 
-const std::string kDir = std::string(HD_SOURCE_DIR) + "/render/lens/profiles/";
+const std::string kDir = std::string(hd::test::source_dir()) + "/render/lens/profiles/";
 
 // The message of the refusal, or "" when the profile is accepted.
 std::string refusal(const std::string& yaml) {

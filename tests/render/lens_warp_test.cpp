@@ -5,11 +5,12 @@
 
 #include "render/lens/hmd_profile_file.h"
 #include "render/lens/lens_warp.h"
+#include "test_paths.h"
 
 namespace hd::render::lens {
 namespace {
 
-const std::string kDir = std::string(HD_SOURCE_DIR) + "/render/lens/profiles/";
+const std::string kDir = std::string(hd::test::source_dir()) + "/render/lens/profiles/";
 constexpr double kPi = 3.14159265358979323846;
 
 // OpenHMD's DK1 numbers, written out here independently of the file.

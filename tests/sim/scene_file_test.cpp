@@ -8,11 +8,12 @@
 #include <fstream>
 
 #include "sim/scene/scene_file.h"
+#include "test_paths.h"
 
 namespace hd::sim {
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(HD_SOURCE_DIR) / "scenes";
+const std::filesystem::path kScenes = std::filesystem::path(hd::test::source_dir()) / "scenes";
 
 // A minimal valid scene; the broken cases below edit one line of it (line numbers matter).
 const std::string kMinimal =

@@ -10,11 +10,12 @@
 #include "drivers/clock/monotonic_clock.h"
 #include "sim/scene/scene_file.h"
 #include "sim/simulation.h"
+#include "test_paths.h"
 
 namespace hd::sim {
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(HD_SOURCE_DIR) / "scenes";
+const std::filesystem::path kScenes = std::filesystem::path(hd::test::source_dir()) / "scenes";
 
 Scene small_default() {
   // The default scene at a tenth of the resolution keeps the test fast under sanitizers.

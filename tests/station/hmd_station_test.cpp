@@ -8,11 +8,12 @@
 #include "sim/scene/config_error.h"
 #include "station/app/station_config.h"
 #include "station/app/station_parts.h"
+#include "test_paths.h"
 
 namespace hd::station {
 namespace {
 
-const std::string kDir = std::string(HD_SOURCE_DIR) + "/scenes/";
+const std::string kDir = std::string(hd::test::source_dir()) + "/scenes/";
 
 // scenes/station-mock.yaml's cameras and workspace, with the given display section.
 std::string station_text(const std::string& display) {

@@ -16,6 +16,7 @@
 #include "sim/simulation.h"
 #include "station/app/run_options.h"
 #include "station/app/station_parts.h"
+#include "test_paths.h"
 
 namespace hd::station {
 namespace {
@@ -59,7 +60,7 @@ TrueBox object_box(const sim::Scene& scene, const std::string& name, double t_s)
 class DefaultSceneModel : public ::testing::Test {
  protected:
   void SetUp() override {
-    scene_ = sim::load_scene(std::string(HD_SOURCE_DIR) + "/scenes/default.yaml");
+    scene_ = sim::load_scene(std::string(hd::test::source_dir()) + "/scenes/default.yaml");
     ASSERT_EQ(scene_.model.moved_objects, sim::MovedObjects::kReconstructed);
     ASSERT_EQ(scene_.stereo.size(), 1u);
     RunOptions o;

@@ -14,6 +14,7 @@
 
 #include "drivers/gige/fake_gige_camera.h"
 #include "support/text_file.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -46,7 +47,7 @@ class StationGigeFormatTest : public ::testing::Test {
   // A station file with the fake camera as its one camera, calibrated at width x height (the
   // mock station's calibration with its size changed).
   fs::path station_file(int width, int height) {
-    std::string cal = slurp(fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml");
+    std::string cal = slurp(fs::path(hd::test::source_dir()) / "scenes/station-mock/cam0.yaml");
     cal = replaced(cal, "image_width: 640", "image_width: " + std::to_string(width));
     cal = replaced(cal, "image_height: 480", "image_height: " + std::to_string(height));
     std::ofstream(dir_ / "cam.yaml") << cal;
@@ -66,8 +67,8 @@ class StationGigeFormatTest : public ::testing::Test {
 
   Result run(const std::string& args) {
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd =
-        "'" HD_STATION_BIN "' run " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
+    const std::string cmd = "'" + std::string(hd::test::station_bin()) + "' run " + args + " > '" +
+                            out.string() + "' 2> '" + err.string() + "'";
     const int status = std::system(cmd.c_str());
     Result r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

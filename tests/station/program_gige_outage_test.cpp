@@ -26,6 +26,7 @@
 #include "drivers/gige/fake_gige_camera.h"
 #include "render/latency/latency_recorder.h"
 #include "support/text_file.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -51,10 +52,10 @@ class Station {
       ::close(fds[0]);
       ::close(fds[1]);
       std::vector<char*> argv;
-      argv.push_back(const_cast<char*>(HD_STATION_BIN));
+      argv.push_back(const_cast<char*>(hd::test::station_bin()));
       for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
       argv.push_back(nullptr);
-      ::execv(HD_STATION_BIN, argv.data());
+      ::execv(hd::test::station_bin(), argv.data());
       ::_exit(127);
     }
     ::close(fds[1]);
@@ -183,7 +184,7 @@ TEST(StationGigeOutage, AKilledCameraIsNeverShownStaleAndIsBackWithinASecondOfIt
   // any frame that is not video is the age rule's doing.
   const fs::path station = dir / "station.yaml";
   std::ofstream(station) << "cameras:\n  - name: front\n    id: " << kId
-                         << "\n    calibration: " << HD_SOURCE_DIR
+                         << "\n    calibration: " << hd::test::source_dir()
                          << "/scenes/station-mock/cam0.yaml\n    d_m: 1.5\n"
                             "tracker: {id: /dev/hidraw-not-there, optional: true}\n"
                             "display: {stereo: false, eye: {width: 160, height: 120, fx: 130}, "

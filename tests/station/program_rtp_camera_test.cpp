@@ -20,6 +20,7 @@
 
 #include "drivers/rtp/gst_launch_sender.h"
 #include "support/text_file.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -40,7 +41,7 @@ class StationProcess {
       const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       ::dup2(e, 2);
       ::close(fds[0]);
-      std::vector<std::string> words{HD_STATION_BIN};
+      std::vector<std::string> words{hd::test::station_bin()};
       words.insert(words.end(), args.begin(), args.end());
       std::vector<char*> argv;
       for (std::string& w : words) argv.push_back(w.data());
@@ -102,7 +103,7 @@ class StationProcess {
 void write_station(const fs::path& dir, const std::string& id, const std::string& key_line) {
   fs::remove_all(dir);
   fs::create_directories(dir);
-  std::string cal = slurp(fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml");
+  std::string cal = slurp(fs::path(hd::test::source_dir()) / "scenes/station-mock/cam0.yaml");
   cal = replaced(cal, "image_width: 640", "image_width: 320");
   cal = replaced(cal, "image_height: 480", "image_height: 240");
   std::ofstream(dir / "cam.yaml") << cal;
@@ -193,7 +194,8 @@ TEST(StationRtpCamera, WithoutACalibrationFileTheCameraWaitsForTheStreamsCalibra
       << "tracker: {id: mock}\n"
          "display: {stereo: false, eye: {width: 160, height: 120, fx: 130}}\n"
          "workspace: {min_m: [-1, -1, 0.5], max_m: [1, 1, 2]}\n";
-  const std::string cal = (fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam1.yaml").string();
+  const std::string cal =
+      (fs::path(hd::test::source_dir()) / "scenes/station-mock/cam1.yaml").string();
   std::ofstream(dir / "remote.yaml") << "encoder: x264enc\ncameras:\n  - id: mock:320x240\n"
                                      << "    calibration: " << cal << "\n    to: " << id << "\n";
   const fs::path out = dir / "out";
@@ -205,7 +207,7 @@ TEST(StationRtpCamera, WithoutACalibrationFileTheCameraWaitsForTheStreamsCalibra
             std::string::npos)
       << station.out();
   hd::drivers::testing::ChildProcess remote(
-      {HD_REMOTE_BIN, "--config", (dir / "remote.yaml").string()});
+      {hd::test::remote_bin(), "--config", (dir / "remote.yaml").string()});
   ASSERT_TRUE(station.read_until("camera net: calibration: from the stream (revision 1)"))
       << station.out() << slurp(dir / "stderr.txt");
   ASSERT_TRUE(station.read_until("camera net: usable from frame"))

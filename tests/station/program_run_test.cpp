@@ -21,6 +21,7 @@
 
 #include "render/latency/latency_recorder.h"
 #include "support/text_file.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -47,10 +48,11 @@ class StationRunTest : public ::testing::Test {
   }
 
   // Runs the built hybrid-station in `cwd` with `args`.
-  Result run(const std::string& args, const fs::path& cwd = HD_SOURCE_DIR) {
+  Result run(const std::string& args, const fs::path& cwd = hd::test::source_dir()) {
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = "cd '" + cwd.string() + "' && '" HD_STATION_BIN "' run " + args +
-                            " > '" + out.string() + "' 2> '" + err.string() + "'";
+    const std::string cmd = "cd '" + cwd.string() + "' && '" +
+                            std::string(hd::test::station_bin()) + "' run " + args + " > '" +
+                            out.string() + "' 2> '" + err.string() + "'";
     const int status = std::system(cmd.c_str());
     Result r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -299,7 +301,7 @@ TEST_F(StationRunTest, LoopStartsTheHeadMotionOverAfterEachLap) {
 }
 
 TEST_F(StationRunTest, BrokenSceneExitsWithFileLineAndField) {
-  std::string text = slurp(fs::path(HD_SOURCE_DIR) / "scenes" / "default.yaml");
+  std::string text = slurp(fs::path(hd::test::source_dir()) / "scenes" / "default.yaml");
   if (!text.empty() && text.back() != '\n') text += '\n';
   const int line = static_cast<int>(std::count(text.begin(), text.end(), '\n')) + 1;
   text += "bogus_key: 1\n";
@@ -315,7 +317,8 @@ TEST_F(StationRunTest, BrokenSceneExitsWithFileLineAndField) {
 
 TEST_F(StationRunTest, BrokenConfigExitsWithFileLineAndField) {
   const fs::path config = dir_ / "station.yaml";
-  const std::string cal = (fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml").string();
+  const std::string cal =
+      (fs::path(hd::test::source_dir()) / "scenes/station-mock/cam0.yaml").string();
   std::ofstream(config) << "cameras: [{id: mock, calibration: '" << cal << "', d_m: 1.5}]\n"
                         << "tracker: {id: mock}\n"
                         << "workspace: {min_m: [-1, -1, 0.5], max_m: [1, 1, 2]}\n"
@@ -332,7 +335,8 @@ TEST_F(StationRunTest, BrokenConfigExitsWithFileLineAndField) {
 
 TEST_F(StationRunTest, MissingRequiredDeviceIsNamedWithItsReason) {
   const fs::path config = dir_ / "station.yaml";
-  const std::string cal = (fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml").string();
+  const std::string cal =
+      (fs::path(hd::test::source_dir()) / "scenes/station-mock/cam0.yaml").string();
   std::ofstream(config) << "cameras:\n"
                         << "  - {name: main, id: /dev/video98, calibration: '" << cal
                         << "', d_m: 1.5}\n"
@@ -352,7 +356,8 @@ TEST_F(StationRunTest, ACameraThatCannotDeliverItsCalibratedSizeRefusesTheStart)
   // A mock delivers exactly the size of its id; calibrated at 640x480, mock:320x240 cannot be
   // set to it, and the run must not start (and then reject every frame).
   const fs::path config = dir_ / "station.yaml";
-  const std::string cal = (fs::path(HD_SOURCE_DIR) / "scenes/station-mock/cam0.yaml").string();
+  const std::string cal =
+      (fs::path(hd::test::source_dir()) / "scenes/station-mock/cam0.yaml").string();
   std::ofstream(config) << "cameras:\n"
                         << "  - {name: main, id: 'mock:320x240', calibration: '" << cal
                         << "', d_m: 1.5}\n"
@@ -382,7 +387,9 @@ TEST_F(StationRunTest, DefaultSceneIsFoundAndSaysWhere) {
       "--headless --frames 3 --eye-width 64 --eye-height 48 --out '" + (dir_ / "b").string() + "'",
       dir_);
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("(found in the source tree " HD_SOURCE_DIR ")"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(found in the source tree " + std::string(hd::test::source_dir()) + ")"),
+            std::string::npos)
+      << r.out;
 }
 
 }  // namespace

@@ -30,6 +30,7 @@
 #include "render/latency/latency_recorder.h"
 #include "support/program_process.h"
 #include "support/text_file.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -102,7 +103,7 @@ TEST(StationTwoProcesses, TheRemotesCamerasAreShownReconstructedAndNeverShownOld
       fs::temp_directory_path() / ("station_two_process_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  std::string scene = slurp(fs::path(HD_SOURCE_DIR) / "scenes/default.yaml");
+  std::string scene = slurp(fs::path(hd::test::source_dir()) / "scenes/default.yaml");
   for (int i = 0; i < 3; ++i) scene = replaced(scene, "    rate_hz: 30\n", "    rate_hz: 15\n");
   scene = replaced(scene, "  - sensor_noise: {sigma_dn: 2, seed: 1}\n", "");
   scene = replaced(scene, "model_staleness: {period_s: 2, delay_s: 0.3}",
@@ -121,7 +122,7 @@ TEST(StationTwoProcesses, TheRemotesCamerasAreShownReconstructedAndNeverShownOld
 
   const fs::path out = dir / "out";
   // --seconds and --camera-wait only bound a hang: the test stops the run by its events.
-  ProgramProcess station(HD_STATION_BIN,
+  ProgramProcess station(hd::test::station_bin(),
                          {"run",
                           "--scene",
                           (dir / "scene.yaml").string(),
@@ -149,7 +150,7 @@ TEST(StationTwoProcesses, TheRemotesCamerasAreShownReconstructedAndNeverShownOld
   // The remote starts once the station has assembled its cameras (its start report's end).
   ASSERT_TRUE(station.read_until("  outputs "))
       << station.out() << slurp(dir / "station_stderr.txt");
-  ProgramProcess remote(HD_REMOTE_BIN,
+  ProgramProcess remote(hd::test::remote_bin(),
                         {"--scene", (dir / "scene.yaml").string(), "--to", to, "--scene-epoch",
                          epoch, "--seconds", "180"},
                         dir / "remote_stderr.txt");
