@@ -1,6 +1,7 @@
 // hybrid-bench-calib: accuracy vs time of the calibration pipeline on synthetic views of a known
 // camera, next to OpenCV's plain pipeline (findChessboardCorners + calibrateCamera, default flags)
 // on the same images in the same run.
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -38,7 +39,11 @@ bool align(std::vector<cv::Point2f>& det, const std::vector<cv::Point2f>& truth)
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  CLI::App app{
+      "hybrid-bench-calib: accuracy against time of the calibration pipeline on synthetic views "
+      "of a known camera, beside OpenCV's plain pipeline on the same images"};
+  CLI11_PARSE(app, argc, argv);
   SyntheticCamera cam;
   cam.size = {640, 480};
   cam.K = cv::Matx33d(600, 0, 330, 0, 602, 236, 0, 0, 1);

@@ -161,7 +161,21 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (a == "--images")
+    if (a == "--help" || a == "-h") {
+      std::printf(
+          "hybrid-bench-calib-cpu: CPU time of `hybrid-calib intrinsics` beside OpenCV's "
+          "calibration sample, both run as programs on the same images, interleaved\n"
+          "Usage: hybrid-bench-calib-cpu --images DIR [--pattern GLOB] [--board CxR] "
+          "[--square M]\n"
+          "         [--runs N] [--hybrid-calib PATH] [-- extra hybrid-calib args]\n"
+          "  --images DIR        the checkerboard photos (e.g. ../shared/data/calib/opencv-left)\n"
+          "  --pattern GLOB      which files of DIR (default *)\n"
+          "  --board CxR         inner corners (default 9x6)\n"
+          "  --square M          square size in metres (default 0.025)\n"
+          "  --runs N            runs of each program (default 5); medians and their ratio\n"
+          "  --hybrid-calib PATH the program to measure (default: this build's)\n");
+      return 0;
+    } else if (a == "--images")
       o.images = next();
     else if (a == "--pattern")
       o.pattern = next();

@@ -11,6 +11,7 @@
 // Coverage: analytic vs raster counts at 3 sample spacings.
 // Decision: measure_view + video_weight, the whole per-frame work for one camera.
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -240,9 +241,15 @@ void row(const char* method, const std::vector<double>& err, const char* unit,
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{
+      "hybrid-bench-geom: accuracy against time of the per-frame geometry (E_max by W's "
+      "vertices, by sampling, and exactly per virtual pixel; coverage analytic and rastered)"};
+  bool decision_only = false;
+  app.add_flag("--decision", decision_only,
+               "only the per-frame decision rows (seconds instead of a minute)");
+  CLI11_PARSE(app, argc, argv);
   const auto setups = poses(48);
-  // --decision: only the per-frame decision row (seconds instead of a minute).
-  if (argc > 1 && std::string(argv[1]) == "--decision") {
+  if (decision_only) {
     std::vector<double> t;
     for (const auto& s : setups)
       t.push_back(time_per_call(300, [&] {

@@ -11,6 +11,7 @@
 // The case is two 800x600 eye halves of a panel (1600x600) behind the OSVR HDK 1.3's lens
 // polynomial with the DK1's chromatic aberration, so every channel has its own sample points.
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -243,11 +244,21 @@ void write_figure(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 2 && std::strcmp(argv[1], "--figure") == 0) {
-    write_figure(argv[2]);
+  CLI::App app{
+      "hybrid-bench-lens: cost per frame of the HMD lens pre-distortion beside the geometric error "
+      "it leaves, against the exact lens model and OpenCV's cv::remap, in one run"};
+  int runs = 21;
+  std::string figure;
+  app.add_option("runs", runs, "timed runs of each method; the median is reported (at least 3)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--figure", figure, "write the distortion figure (PNG) to this file and stop");
+  app.footer("The GL rows need a display: run under xvfb-run for llvmpipe.");
+  CLI11_PARSE(app, argc, argv);
+  if (!figure.empty()) {
+    write_figure(figure.c_str());
     return 0;
   }
-  const int runs = argc > 1 ? std::max(3, std::atoi(argv[1])) : 21;
+  runs = std::max(3, runs);
   const LensWarp warp(bench_profile());
   const ImageRgba8 eyes = eyes_pattern(warp);
   std::printf("load average at the start: %s", load_average().c_str());

@@ -13,6 +13,7 @@
 //
 //   build/bin/hybrid-bench-recon [rounds]      (default 9)
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -321,7 +322,15 @@ void sim_table(int threads) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int rounds = argc > 1 ? std::max(1, std::atoi(argv[1])) : 9;
+  CLI::App app{
+      "hybrid-bench-recon: the station's stereo matcher on Middlebury's Aloe (bad-2.0 against the "
+      "ground truth) beside OpenCV's SGBM, then on simulated pairs of the default scene, at 1 and "
+      "2 threads"};
+  int rounds = 9;
+  app.add_option("rounds", rounds, "timed rounds per row; the median is reported")
+      ->check(CLI::PositiveNumber);
+  app.footer("Aloe is read from ../shared/data/stereo/aloe beside the checkout.");
+  CLI11_PARSE(app, argc, argv);
   const Aloe a = load_aloe();
   for (int threads : {1, 2}) aloe_table(a, threads, rounds);
   for (int threads : {1, 2}) sim_table(threads);

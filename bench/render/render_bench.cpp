@@ -6,6 +6,7 @@
 //   GL compositor (needs a display: run under xvfb-run for llvmpipe): full frame, region vs full
 //   upload (bytes, time).
 
+#include <CLI/CLI.hpp>
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
@@ -96,8 +97,14 @@ std::string fmt(const char* f, double x) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{
+      "hybrid-bench-render: time per frame of the CPU compositor's stages (video warp, synthetic "
+      "view, blend) at 1 and 2 threads, beside OpenCV's warpPerspective, with the error of each"};
   int runs = 30;
-  if (argc > 1) runs = std::max(3, std::atoi(argv[1]));
+  app.add_option("runs", runs, "timed runs of each row; the median is reported (at least 3)")
+      ->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  runs = std::max(3, runs);
   double load_before[3] = {0, 0, 0};
   if (getloadavg(load_before, 3) != 3) load_before[0] = load_before[1] = load_before[2] = -1;
   const Pinhole real = pinhole(1400.0, 1600, 1200);

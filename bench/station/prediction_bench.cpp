@@ -1,6 +1,7 @@
 // hybrid-bench-prediction: prediction error against horizon for no prediction, constant velocity
 // and the Kalman filter, on simulated seated head motion with tracker noise. Also the cost per
 // sample + prediction of each, measured in the same run.
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -96,9 +97,14 @@ void run_table(double rate_hz, bool gyro, double seconds) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{
+      "hybrid-bench-prediction: error of the predicted head pose (none, constant velocity, "
+      "Kalman) against the true pose at sample time + horizon, and the cost of each"};
   double seconds = 60.0;
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::strcmp(argv[i], "--seconds") == 0) seconds = std::max(2.0, std::atof(argv[i + 1]));
+  app.add_option("--seconds", seconds, "simulated head motion per table (at least 2 s)")
+      ->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  seconds = std::max(2.0, seconds);
   std::printf(
       "hybrid-bench-prediction: orientation (deg) and position (mm) error of the predicted head "
       "pose\n"
