@@ -9,218 +9,12 @@
 
 #include "render/compositor/request_check.h"
 #include "render/compositor/video_warp.h"
+#include "render/gl/shader_sources.h"  // generated from render/gl/shaders/
 #include "render/lens/lens_warp.h"
 
 namespace hd::render {
 
 namespace {
-
-constexpr const char* kMeshVs = R"(#version 330 core
-layout(location = 0) in vec3 pos_m;
-layout(location = 1) in vec2 uv;
-uniform mat4 world_to_clip;
-out vec2 v_uv;
-void main() {
-  v_uv = uv;
-  gl_Position = world_to_clip * vec4(pos_m, 1.0);
-}
-)";
-
-constexpr const char* kMeshFs = R"(#version 330 core
-uniform sampler2D tex;
-in vec2 v_uv;
-out vec4 colour;
-void main() { colour = vec4(texture(tex, v_uv).rgb, 1.0); }
-)";
-
-constexpr const char* kFullScreenVs = R"(#version 330 core
-void main() {
-  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-
-// The CPU reference's per-pixel rules, written for the GPU (cpu_compositor.cpp; core's
-// blend_weights.cpp for w2).
-constexpr const char* kCompositeFs = R"(#version 330 core
-uniform sampler2D synth;
-uniform sampler2D video;
-uniform ivec2 vp_origin;
-uniform ivec2 vp_size;
-uniform int video_on;
-uniform mat3 H;
-uniform vec3 inv_depth;
-uniform float inv_near;
-uniform vec2 video_size;
-uniform int per_pixel;
-uniform float w_video;
-uniform int nearest;
-uniform int style;  // 0 none, 1 frame, 2 desaturate, 3 checker
-uniform float desat;
-uniform float checker_step;
-uniform float fade;
-uniform int cell;
-uniform int frame_w;
-uniform int stale;  // video past its age bound: the frame is drawn in every style
-uniform vec3 frame_rgb;
-out vec4 colour;
-
-float pixel_weight(float kappa, vec2 q) {
-  if (kappa <= 0.0) return 1.0;
-  float x = min(abs(1.0 - 2.0 * q.x / video_size.x), 1.0);
-  float y = min(abs(1.0 - 2.0 * q.y / video_size.y), 1.0);
-  float inner = 1.0 - kappa;
-  float w;
-  if (x <= inner && y <= inner) w = 1.0;
-  else if (y <= inner) w = (1.0 - x) / kappa;
-  else if (x <= inner) w = (1.0 - y) / kappa;
-  else w = 1.0 - length(vec2(x - inner, y - inner)) / kappa;
-  w = clamp(w, 0.0, 1.0);
-  return (sin((w - 0.5) * 3.14159265358979) + 1.0) * 0.5;
-}
-
-void main() {
-  ivec2 pix = ivec2(gl_FragCoord.xy);
-  ivec2 e = pix - vp_origin;
-  vec3 s = floor(texelFetch(synth, pix, 0).rgb * 255.0 + 0.5);
-  if (style == 2) {
-    float grey = 0.299 * s.r + 0.587 * s.g + 0.114 * s.b;
-    s += desat * (vec3(grey) - s);
-  } else if (style == 3) {
-    float step = (((e.x / cell + e.y / cell) & 1) != 0) ? -checker_step : checker_step;
-    s = clamp(s + step, 0.0, 255.0);
-  }
-  if (fade > 0.0) s += fade * (vec3(128.0) - s);
-  float a = 0.0;
-  vec3 v = vec3(0.0);
-  if (video_on != 0) {
-    vec3 p = vec3(vec2(e) + 0.5, 1.0);
-    float iz = dot(inv_depth, p);
-    if (iz > 0.0 && iz <= inv_near) {
-      vec3 h = H * p;
-      vec2 q = h.xy / h.z;
-      if (q.x >= 0.0 && q.y >= 0.0 && q.x <= video_size.x && q.y <= video_size.y) {
-        float weight = w_video;
-        if (per_pixel != 0) {
-          float strength = min(1.0, 2.0 * w_video);
-          weight = strength * pixel_weight(min(1.0, 2.0 * (1.0 - w_video)), q);
-        }
-        a = weight;
-        if (a > 0.0) {
-          if (nearest != 0) {
-            ivec2 t = min(ivec2(q), ivec2(video_size) - 1);
-            v = texelFetch(video, t, 0).rgb * 255.0;
-          } else {
-            v = texture(video, q / video_size).rgb * 255.0;
-          }
-        }
-      }
-    }
-  }
-  vec3 o = s + a * (v - s);
-  if ((style == 1 || (stale != 0 && style != 0)) && frame_w > 0 &&
-      (e.x < frame_w || e.y < frame_w || e.x >= vp_size.x - frame_w || e.y >= vp_size.y - frame_w)) {
-    o = frame_rgb;
-  }
-  colour = vec4(floor(clamp(o, 0.0, 255.0) + 0.5) / 255.0, 1.0);
-}
-)";
-
-// Overlay lines: vertices in output pixels (row 0 at the top, like framebuffer row 0).
-constexpr const char* kLinesVs = R"(#version 330 core
-layout(location = 0) in vec2 pos_px;
-layout(location = 1) in vec3 rgb;
-uniform vec2 target;
-flat out vec3 v_rgb;
-void main() {
-  v_rgb = rgb;
-  gl_Position = vec4(pos_px / target * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-
-constexpr const char* kLinesFs = R"(#version 330 core
-flat in vec3 v_rgb;
-out vec4 colour;
-void main() { colour = vec4(v_rgb, 1.0); }
-)";
-
-// The HUD strip: a quad at `origin` of `size` pixels, texel (x, y) of the strip on pixel
-// origin + (x, y), blended by the strip's alpha.
-constexpr const char* kHudVs = R"(#version 330 core
-uniform vec2 origin;
-uniform vec2 size;
-uniform vec2 target;
-void main() {
-  vec2 corner = vec2(float(gl_VertexID & 1), float((gl_VertexID >> 1) & 1));
-  gl_Position = vec4((origin + corner * size) / target * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-
-constexpr const char* kHudFs = R"(#version 330 core
-uniform sampler2D strip;
-uniform vec2 origin;
-out vec4 colour;
-void main() { colour = texelFetch(strip, ivec2(gl_FragCoord.xy - origin), 0); }
-)";
-
-// The lens pass: vertices at panel positions (px) carrying the green sample point (eyes-picture
-// px) and the eye; see GlCompositor::set_lens.
-constexpr const char* kLensVs = R"(#version 330 core
-layout(location = 0) in vec2 panel_px;
-layout(location = 1) in vec2 green_px;
-layout(location = 2) in float eye;
-uniform vec2 panel_size;
-out vec2 green;
-flat out int eye_i;
-void main() {
-  green = green_px;
-  eye_i = int(eye + 0.5);
-  gl_Position = vec4(panel_px / panel_size * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-
-constexpr const char* kLensFs = R"(#version 330 core
-uniform sampler2D eyes;
-uniform vec2 eyes_size;
-uniform vec2 centre[2];
-uniform vec2 lens_px[2];
-uniform vec2 inv_unit_px;
-uniform float max_radius;
-uniform vec3 scale;
-uniform float eye_w;
-uniform int exact;
-uniform float k[12];
-uniform int k_count;
-in vec2 green;
-flat in int eye_i;
-out vec4 colour;
-void main() {
-  vec2 q = gl_FragCoord.xy - lens_px[eye_i];
-  vec2 d = q * inv_unit_px;
-  float r = length(d);
-  if (max_radius > 0.0 && r > max_radius) {
-    colour = vec4(0.0, 0.0, 0.0, 1.0);
-    return;
-  }
-  vec2 g = green;
-  if (exact != 0) {
-    // The lens polynomial at this fragment: green = centre + P(r) / (r P'(0)) * q.
-    float p = 0.0;
-    for (int i = k_count - 1; i >= 1; --i) p = p * r + k[i];
-    g = centre[eye_i] + (r > 0.0 ? p : k[1]) / k[1] * q;
-  }
-  float lo = float(eye_i) * eye_w + 0.5;
-  float hi = lo + eye_w - 1.0;
-  vec2 c = centre[eye_i];
-  vec3 rgb;
-  for (int ch = 0; ch < 3; ++ch) {
-    vec2 s = c + scale[ch] * (g - c);
-    s.x = clamp(s.x, lo, hi);
-    rgb[ch] = texture(eyes, s / eyes_size)[ch];
-  }
-  colour = vec4(rgb, 1.0);
-}
-)";
 
 GLuint compile(GLenum type, const char* source, const char* name) {
   const GLuint shader = glCreateShader(type);
@@ -289,8 +83,8 @@ GlCompositor::GlCompositor(const gl::WindowOptions& options)
     throw std::runtime_error("GL compositor: got OpenGL " + std::to_string(major) + "." +
                              std::to_string(minor) + ", need a 3.3 core context");
   }
-  mesh_program_ = link(kMeshVs, kMeshFs, "mesh");
-  composite_program_ = link(kFullScreenVs, kCompositeFs, "composite");
+  mesh_program_ = link(shaders::kMeshVert, shaders::kMeshFrag, "mesh");
+  composite_program_ = link(shaders::kFullScreenVert, shaders::kCompositeFrag, "composite");
   empty_vao_ = gl::VertexArray::create();
   u_world_to_clip_ = glGetUniformLocation(mesh_program_.get(), "world_to_clip");
   glUseProgram(mesh_program_.get());
@@ -309,8 +103,8 @@ GlCompositor::GlCompositor(const gl::WindowOptions& options)
   glBindTexture(GL_TEXTURE_2D, video_texture_.get());
   set_sampling(GL_TEXTURE_2D);
 
-  lines_program_ = link(kLinesVs, kLinesFs, "overlay lines");
-  hud_program_ = link(kHudVs, kHudFs, "overlay hud");
+  lines_program_ = link(shaders::kLinesVert, shaders::kLinesFrag, "overlay lines");
+  hud_program_ = link(shaders::kHudVert, shaders::kHudFrag, "overlay hud");
   u_lines_target_ = glGetUniformLocation(lines_program_.get(), "target");
   u_hud_origin_ = glGetUniformLocation(hud_program_.get(), "origin");
   u_hud_size_ = glGetUniformLocation(hud_program_.get(), "size");
@@ -693,7 +487,7 @@ void GlCompositor::set_lens(const lens::LensWarp* warp) {
   lens_index_count_ = 0;
   if (!warp) return;
   if (!lens_program_) {
-    lens_program_ = link(kLensVs, kLensFs, "lens");
+    lens_program_ = link(shaders::kLensVert, shaders::kLensFrag, "lens");
     glUseProgram(lens_program_.get());
     glUniform1i(glGetUniformLocation(lens_program_.get(), "eyes"), 0);
     glUseProgram(0);
