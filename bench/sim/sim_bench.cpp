@@ -22,8 +22,9 @@ using namespace hd::sim;
 using namespace hd::render;
 
 Scene bare_scene() {
-  const std::filesystem::path here = std::filesystem::path(__FILE__).parent_path();
-  return load_scene((here / "../../scenes/bare.yaml").string());
+  // From the checkout the program was built from: __FILE__ is relative to the build folder
+  // under ccache's base directory (scripts/test.sh), so it cannot be trusted from elsewhere.
+  return load_scene((std::filesystem::path(HD_SOURCE_DIR) / "scenes" / "bare.yaml").string());
 }
 
 // The peer: one CpuCompositor draw of camera 0's view of the model.

@@ -33,8 +33,9 @@ namespace core = hd::core;
 namespace drivers = hd::drivers;
 
 Scene default_scene() {
-  const std::filesystem::path here = std::filesystem::path(__FILE__).parent_path();
-  return load_scene((here / "../../scenes/default.yaml").string());
+  // From the checkout the program was built from: __FILE__ is relative to the build folder
+  // under ccache's base directory (scripts/test.sh), so it cannot be trusted from elsewhere.
+  return load_scene((std::filesystem::path(HD_SOURCE_DIR) / "scenes" / "default.yaml").string());
 }
 
 // One frame of every camera of the default scene at t ~ 5 s (the block is being carried).
