@@ -28,7 +28,7 @@ cmake -S . -B build-asan -G Ninja "${flags[@]}" -DCMAKE_C_COMPILER=clang \
   -DCMAKE_CXX_COMPILER=clang++ -DHYBRID_SANITIZE=ON -DHYBRID_BENCH=OFF
 cmake --build build-asan -j"$jobs"
 echo "== tests under ASan+UBSan =="
-export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:suppressions=$PWD/tests/asan.supp"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 ctest --test-dir build-asan --output-on-failure -j"$ctest_jobs" -LE no_sanitizer

@@ -4,6 +4,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -73,9 +74,15 @@ class FakeGigeCamera {
 
   // One attempt: false when the child exited (it lost the port to another process meanwhile).
   bool start(const std::string& serial, const std::string& genicam) {
+    const pid_t parent = ::getpid();
     pid_ = ::fork();
     if (pid_ < 0) throw std::runtime_error("fork failed");
     if (pid_ == 0) {
+      // The camera dies with the test: a test process that aborts (a sanitizer report) or is
+      // killed at its ctest timeout runs no destructor, and an orphaned fake camera would hold
+      // port 3956 and make every later GigE test wait for it.
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+      if (::getppid() != parent) ::_exit(127);  // the test died before prctl took effect
       if (genicam.empty()) {
         ::execl(HD_ARV_FAKE_GV_CAMERA, HD_ARV_FAKE_GV_CAMERA, "-i", "127.0.0.1", "-s",
                 serial.c_str(), static_cast<char*>(nullptr));
