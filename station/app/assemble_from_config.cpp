@@ -15,16 +15,11 @@
 #include "drivers/usb/usb_id.h"
 #include "sim/scene/scene_file.h"
 
+#include "station/app/report_text.h"
 #include "station/app/station_parts.h"
 
 namespace hd::station {
 namespace {
-
-std::string fmt(const char* f, double a = 0, double b = 0, double c = 0, double d = 0) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, f, a, b, c, d);
-  return buf;
-}
 
 // The mock tracker's motion (tracker frame): from the origin 0.6 m to the right while turning
 // 25 deg toward the left, and back, every 12 s -- away from a camera at the origin and back.

@@ -9,16 +9,11 @@
 #include "drivers/rtp/rtp_camera.h"
 #include "drivers/rtp/rtp_uri.h"
 #include "sim/scene_epoch.h"
+#include "station/app/report_text.h"
 #include "station/app/station_parts.h"
 
 namespace hd::station {
 namespace {
-
-std::string fmt(const char* f, double a = 0, double b = 0, double c = 0, double d = 0) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, f, a, b, c, d);
-  return buf;
-}
 
 std::string join(const std::vector<std::string>& items) {
   std::string s;

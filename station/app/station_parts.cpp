@@ -4,17 +4,9 @@
 
 #include "recon/matcher_config.h"
 #include "render/lens/hmd_profile_file.h"
+#include "station/app/report_text.h"
 
 namespace hd::station {
-namespace {
-
-std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, f, a, b, c);
-  return buf;
-}
-
-}  // namespace
 
 StationParts::~StationParts() {
   stop();
