@@ -395,7 +395,7 @@ void GigeCamera::adopt(const CameraFormat& f) {
   height_px_ = f.height_px;
   frame_rate_hz_ = f.frame_rate_hz;
   format_ = f;
-  format_lost_ = false;
+  format_watch_.forget();
   open_stream();
   // Sized here, before start(): the consumer takes frames() after open, and it never changes
   // while the camera streams (a reconnect must deliver this size again).
@@ -515,16 +515,11 @@ bool GigeCamera::reconnect() {
 void GigeCamera::enter_mismatch(FormatEventCause cause, const CameraFormat& seen, int64_t now_ns) {
   // State first: a consumer that sees the event must also see the camera as unusable.
   state_.store(SourceState::kFormatMismatch, std::memory_order_release);
-  if (format_lost_) return;
-  format_lost_ = true;
-  mismatch_since_ns_ = now_ns;
-  events_.push(FormatEvent{now_ns, FormatEventKind::kLost, cause, format_, seen});
+  if (format_watch_.lost(now_ns, cause, format_, seen)) mismatch_since_ns_ = now_ns;
 }
 
 void GigeCamera::leave_mismatch(FormatEventCause cause, int64_t now_ns) {
-  if (!format_lost_) return;
-  format_lost_ = false;
-  events_.push(FormatEvent{now_ns, FormatEventKind::kRestored, cause, format_, format_});
+  format_watch_.restored(now_ns, cause, format_);
 }
 
 uint64_t GigeCamera::dropped_frames() const {

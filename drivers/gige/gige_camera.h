@@ -12,6 +12,7 @@
 
 #include "drivers/camera_source.h"
 #include "drivers/clock/device_clock_mapper.h"
+#include "drivers/format_watch.h"
 #include "drivers/gige/frame_id_unwrapper.h"
 #include "drivers/gige/gige_config.h"
 #include "drivers/gige/gobject_ptr.h"
@@ -81,7 +82,7 @@ class GigeCamera final : public CameraSource {
   /// start() only (throws DeviceError otherwise).
   FormatNegotiation negotiate(const CameraFormatRequest& wanted) override;
   CameraFormat format() const override { return format_; }
-  bool pop_format_event(FormatEvent& out) override { return events_.pop(out); }
+  bool pop_format_event(FormatEvent& out) override { return format_watch_.pop(out); }
   void start() override;
   void stop() override;
   SourceState state() const override { return state_.load(std::memory_order_acquire); }
@@ -157,7 +158,6 @@ class GigeCamera final : public CameraSource {
   int64_t last_frame_ns_ = 0;
   int64_t last_probe_ns_ = 0;
   bool rebase_sequence_ = false;
-  bool format_lost_ = false;  // a kLost event was sent and no kRestored since
   int64_t mismatch_since_ns_ = 0;
   uint64_t sequence_offset_ = 0;
   uint64_t last_sequence_ = 0;
@@ -175,7 +175,7 @@ class GigeCamera final : public CameraSource {
   std::atomic<uint64_t> bad_before_first_{0};
   bool got_first_frame_ = false;
   SpscRing<GigeHandoffTiming, 1024> timings_;
-  FormatEventRing events_;
+  FormatWatch format_watch_;  // capture thread; the station pops its events
 };
 
 }  // namespace hd::drivers

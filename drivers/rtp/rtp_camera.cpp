@@ -658,36 +658,18 @@ void RtpCamera::on_sample(GstElement* sink) {
   }
   const int want_w = format_.known() ? format_.width_px : learned_width_;
   const int want_h = format_.known() ? format_.height_px : learned_height_;
+  CameraFormat expected = format_;
+  expected.width_px = want_w;
+  expected.height_px = want_h;
   if (w != want_w || h != want_h) {
     wrong_format_.fetch_add(1, std::memory_order_relaxed);
-    if (!format_lost_) {
-      format_lost_ = true;
-      FormatEvent ev;
-      ev.time_ns = now;
-      ev.kind = FormatEventKind::kLost;
-      ev.cause = FormatEventCause::kFrame;
-      ev.expected = format_;
-      ev.expected.width_px = want_w;
-      ev.expected.height_px = want_h;
-      ev.seen = {w, h, PixelFormat::kRgba8, 0.0};
-      events_.push(ev);
-    }
     state_.store(SourceState::kFormatMismatch, std::memory_order_release);
+    format_watch_.lost(now, FormatEventCause::kFrame, expected,
+                       CameraFormat{w, h, PixelFormat::kRgba8, 0.0});
     gst_sample_unref(sample);
     return;
   }
-  if (format_lost_) {
-    format_lost_ = false;
-    FormatEvent ev;
-    ev.time_ns = now;
-    ev.kind = FormatEventKind::kRestored;
-    ev.cause = FormatEventCause::kFrame;
-    ev.expected = format_;
-    ev.expected.width_px = want_w;
-    ev.expected.height_px = want_h;
-    ev.seen = ev.expected;
-    events_.push(ev);
-  }
+  format_watch_.restored(now, FormatEventCause::kFrame, expected);
   GstVideoFrame vf;
   if (!gst_video_frame_map(&vf, &info, buffer, GST_MAP_READ)) {
     gst_sample_unref(sample);

@@ -13,7 +13,9 @@
 #include <string>
 #include <thread>
 
+#include "drivers/camera_link.h"
 #include "drivers/camera_source.h"
+#include "drivers/format_watch.h"
 #include "drivers/rtp/clock_offset_estimator.h"
 #include "drivers/rtp/rtp_calibration.h"
 #include "drivers/rtp/rtp_frame_stamp.h"
@@ -133,7 +135,7 @@ struct RtpCameraStats {
 /// Bad input: every UDP datagram on the RTP port is checked with parse_rtp_packet and its H.264
 /// payload with check_h264_payload (after srtpdec with a key) before the depayloader sees it; a
 /// malformed one is dropped and counted by reason.
-class RtpCamera final : public CameraSource {
+class RtpCamera final : public CameraSource, public CameraLink {
  public:
   explicit RtpCamera(RtpReceiveConfig config);
   ~RtpCamera() override;
@@ -144,7 +146,7 @@ class RtpCamera final : public CameraSource {
   void open() override;  ///< builds the pipeline (throws DeviceError naming the address)
   FormatNegotiation negotiate(const CameraFormatRequest& wanted) override;
   CameraFormat format() const override { return format_; }
-  bool pop_format_event(FormatEvent& out) override { return events_.pop(out); }
+  bool pop_format_event(FormatEvent& out) override { return format_watch_.pop(out); }
   void start() override;  ///< starts listening (throws DeviceError when the port is taken)
   void stop() override;
   SourceState state() const override { return state_.load(std::memory_order_acquire); }
@@ -179,9 +181,11 @@ class RtpCamera final : public CameraSource {
   /// comes from; sent now when it changes and every 0.5 s from the bus thread). Never called:
   /// nothing is sent and the sender stays at full rate. Lock-free (one atomic store): the frame
   /// loop may call it between frames.
-  void set_view_needed(bool needed);
+  void set_view_needed(bool needed) override;
   /// What set_view_needed said last (true before: full rate).
-  bool view_needed() const { return view_need_.load(std::memory_order_relaxed) != 0; }
+  bool view_needed() const override { return view_need_.load(std::memory_order_relaxed) != 0; }
+  /// stats() and feedback() as the station's summary reports them (rtp_link_report.cpp).
+  LinkReport link_report() const override;
   /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
   /// link. False when there is no netsim in the path.
   bool set_netsim_drop_probability(double p);
@@ -221,7 +225,6 @@ class RtpCamera final : public CameraSource {
   int learned_width_ = 0, learned_height_ = 0;
   uint64_t sequence_ = 0;
   int sized_slots_ = 0;
-  bool format_lost_ = false;
 
   std::atomic<uint64_t> packets_{0}, bytes_{0}, feedback_targets_{0};
   // The media SSRC, sequence numbers and RTP times taken (udpsrc's streaming thread, or
@@ -299,7 +302,7 @@ class RtpCamera final : public CameraSource {
   std::size_t stamp_next_ = 0;
   mutable std::mutex error_mutex_;
   std::string last_error_;
-  FormatEventRing events_;
+  FormatWatch format_watch_;  // streaming thread; the station pops its events
 };
 
 }  // namespace hd::drivers

@@ -267,7 +267,7 @@ void V4l2Camera::open_stream(bool reopening) {
     modes_ = std::move(modes);
     chosen_ = chosen;
     refused_ = refused;
-    format_lost_ = false;
+    format_watch_.forget();
   }
   bytes_per_line_ = bytes_per_line;
   size_image_ = pix.sizeimage;
@@ -472,7 +472,8 @@ void V4l2Camera::try_reopen() {
     start_stream();
   } catch (const ModeChanged& e) {
     close_stream(false);
-    if (!format_lost_) set_error(std::string(e.what()) + "; unusable until it does again");
+    if (!format_watch_.is_lost())
+      set_error(std::string(e.what()) + "; unusable until it does again");
     enter_mismatch(FormatEventCause::kReconnect, e.seen(), monotonic_now_ns());
     return;
   } catch (const DeviceError& e) {
@@ -525,16 +526,11 @@ void V4l2Camera::handle_events() {
 void V4l2Camera::enter_mismatch(FormatEventCause cause, const CameraFormat& seen, int64_t when_ns) {
   // State first: a consumer that sees the event must also see the camera as unusable.
   set_state(SourceState::kFormatMismatch);
-  if (format_lost_) return;
-  format_lost_ = true;
-  events_.push(FormatEvent{when_ns, FormatEventKind::kLost, cause, format(), seen});
+  format_watch_.lost(when_ns, cause, format(), seen);
 }
 
 void V4l2Camera::leave_mismatch(int64_t now_ns) {
-  if (!format_lost_) return;
-  format_lost_ = false;
-  events_.push(FormatEvent{now_ns, FormatEventKind::kRestored, FormatEventCause::kReconnect,
-                           format(), format()});
+  format_watch_.restored(now_ns, FormatEventCause::kReconnect, format());
 }
 
 }  // namespace hd::drivers

@@ -11,6 +11,7 @@
 
 #include "drivers/camera_source.h"
 #include "drivers/convert/mjpeg_decoder.h"
+#include "drivers/format_watch.h"
 #include "drivers/v4l2/mmap_buffer.h"
 #include "drivers/v4l2/unique_fd.h"
 #include "drivers/v4l2/v4l2_mode.h"
@@ -55,7 +56,7 @@ class V4l2Camera final : public CameraSource {
   /// driver's S_FMT answer is returned. Before start() only.
   FormatNegotiation negotiate(const CameraFormatRequest& wanted) override;
   CameraFormat format() const override;
-  bool pop_format_event(FormatEvent& out) override { return events_.pop(out); }
+  bool pop_format_event(FormatEvent& out) override { return format_watch_.pop(out); }
   void start() override;  ///< opens first if needed; throws DeviceError
   void stop() override;   ///< joins the thread, releases every buffer and the fd
   SourceState state() const override { return state_.load(std::memory_order_acquire); }
@@ -109,7 +110,7 @@ class V4l2Camera final : public CameraSource {
   std::unique_ptr<MjpegDecoder> mjpeg_;
   std::string refused_;  // what the last open's driver did not take (for negotiate())
   std::atomic<bool> events_subscribed_{false};
-  FormatEventRing events_;
+  FormatWatch format_watch_;  // capture thread; the station pops its events
 
   std::thread thread_;
   std::atomic<bool> stop_requested_{false};
@@ -130,7 +131,6 @@ class V4l2Camera final : public CameraSource {
   bool published_any_ = false;
   int64_t last_frame_ns_ = 0;
   int64_t last_reopen_try_ns_ = 0;
-  bool format_lost_ = false;  // a kLost event was sent and no kRestored since
 
   mutable std::mutex error_mutex_;
   std::string last_error_;

@@ -119,11 +119,9 @@ bool CameraPipeline::process_one() {
   if (!is_rgba_frame(src, expected.width_px, expected.height_px)) {
     rejected_.fetch_add(1, std::memory_order_relaxed);
     // State first: a consumer that sees the event must also see the camera as unusable.
-    if (!mismatch_.exchange(true, std::memory_order_acq_rel)) {
-      events_.push({drivers::monotonic_now_ns(), drivers::FormatEventKind::kLost,
-                    drivers::FormatEventCause::kFrame, expected,
-                    drivers::CameraFormat{src.width, src.height, src.format, 0.0}});
-    }
+    mismatch_.store(true, std::memory_order_release);
+    format_watch_.lost(drivers::monotonic_now_ns(), drivers::FormatEventCause::kFrame, expected,
+                       drivers::CameraFormat{src.width, src.height, src.format, 0.0});
     return true;
   }
   drivers::Frame& out = sized(frames_.write_slot(), active_p_c_);
@@ -133,11 +131,9 @@ bool CameraPipeline::process_one() {
     rejected_.fetch_add(1, std::memory_order_relaxed);
     return true;
   }
-  if (mismatch_.load(std::memory_order_relaxed)) {
-    events_.push({drivers::monotonic_now_ns(), drivers::FormatEventKind::kRestored,
-                  drivers::FormatEventCause::kFrame, expected, expected});
+  if (format_watch_.restored(drivers::monotonic_now_ns(), drivers::FormatEventCause::kFrame,
+                             expected))
     mismatch_.store(false, std::memory_order_release);
-  }
   // The model's copy is taken from the finished frame (no second undistortion) before the
   // station can see it: after publish() the slot belongs to the mailbox.
   const int64_t t_ns = out.host_timestamp_ns;

@@ -9,6 +9,7 @@
 #include "core/pinhole.h"
 #include "core/pose.h"
 #include "drivers/camera_source.h"
+#include "drivers/format_watch.h"
 #include "drivers/spsc_ring.h"
 #include "station/video/undistorter.h"
 
@@ -87,7 +88,7 @@ class CameraPipeline final : public drivers::CameraSource {
   }
   drivers::CameraFormat format() const override { return source_.format(); }
   bool pop_format_event(drivers::FormatEvent& out) override {
-    return source_.pop_format_event(out) || events_.pop(out);
+    return source_.pop_format_event(out) || format_watch_.pop(out);
   }
   uint64_t dropped_frames() const override;
   drivers::Mailbox<drivers::Frame>& frames() override { return frames_; }
@@ -137,7 +138,7 @@ class CameraPipeline final : public drivers::CameraSource {
   std::atomic<uint64_t> processed_{0};
   std::atomic<uint64_t> rejected_{0};
   std::atomic<bool> mismatch_{false};
-  drivers::FormatEventRing events_;
+  drivers::FormatWatch format_watch_;  // this pipeline's own refusals (size, pixel format)
   std::thread thread_;
 };
 

@@ -1,0 +1,43 @@
+#pragma once
+// The network side of a camera, as the station sees it: what the link received, and the view
+// need it passes to the sender. A network camera implements it beside CameraSource; a camera on
+// this host has none, so the station holds one only where the assembler found one (no casts).
+
+#include <cstdint>
+#include <string>
+
+namespace hd::drivers {
+
+/// What a link received and sent since start(), in the terms the station's summary reports
+/// (drivers/rtp/rtp_camera.h's counters for RTP). Clock figures: capture_mono = sender_unix +
+/// clock_offset_ns, within ±clock_uncertainty_ns (-1 unknown).
+struct LinkReport {
+  std::string security;  ///< "SRTP AES-128-GCM (key file F)" or "none"
+  uint64_t packets = 0, bytes = 0, malformed = 0, srtp_rejected = 0;
+  uint64_t frames_stamped = 0;    ///< with the sender's capture time
+  uint64_t frames_unstamped = 0;  ///< with their arrival time instead
+  uint64_t not_newer = 0;         ///< decoded frames not newer than the last shown: dropped
+  uint64_t bus_errors = 0;
+  uint64_t pli_sent = 0, nack_sent = 0, rtx_received = 0;
+  uint64_t view_feedback_sent = 0;  ///< view-need messages sent to the sender
+  uint64_t calibration_errors = 0;  ///< calibration elements refused
+  std::string last_error;           ///< the newest error's text ("" none)
+  std::string clock_mapping;        ///< how the sender's clock is mapped ("measured", ...)
+  int64_t clock_offset_ns = 0, clock_uncertainty_ns = -1, clock_round_trip_ns = -1;
+  uint64_t clock_samples = 0, sender_reports = 0;
+  uint64_t capture_after_arrival = 0;  ///< mapped capture times after the arrival: replaced
+};
+
+class CameraLink {
+ public:
+  virtual ~CameraLink() = default;
+  /// Bandwidth follows the view: whether the station needs this camera at full rate now.
+  /// Lock-free: the frame loop calls it between frames.
+  virtual void set_view_needed(bool needed) = 0;
+  /// What set_view_needed said last (true before the first call: full rate).
+  virtual bool view_needed() const = 0;
+  /// The counters now (any thread but the render thread: may take a lock).
+  virtual LinkReport link_report() const = 0;
+};
+
+}  // namespace hd::drivers
