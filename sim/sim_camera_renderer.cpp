@@ -10,7 +10,7 @@ SimCameraRenderer::SimCameraRenderer(const Simulation& sim, std::size_t camera_i
     : sim_(sim), scene_(sim.model()) {
   const Scene& s = sim.scene();
   const SceneCamera& cam = s.cameras.at(camera_index);
-  ideal_ = cam.intrinsics;
+  ideal_ = cam.p_c;
   ideal_.distortion = {};
   ideal_.distortion_count = 0;
   T_world_cam_ = cam.T_world_cam;
@@ -19,7 +19,7 @@ SimCameraRenderer::SimCameraRenderer(const Simulation& sim, std::size_t camera_i
   blur_ = fx.motion_blur;
   rolling_ = fx.rolling_shutter;
   if (blur_) accum_.assign(image_.data.size(), 0);
-  if (fx.lens_distortion) distorter_ = std::make_unique<LensDistorter>(cam.intrinsics);
+  if (fx.lens_distortion) distorter_ = std::make_unique<LensDistorter>(cam.p_c);
   if (fx.exposure) exposure_.emplace(*fx.exposure);
   if (fx.sensor_noise) noise_.emplace(*fx.sensor_noise, camera_index);
 }

@@ -38,8 +38,8 @@ Simulation::Simulation(Scene scene)
     device_renderers_.push_back(std::make_unique<SimCameraRenderer>(*this, i));
     drivers::MockCameraConfig cc;
     cc.id = "sim:" + c.name;
-    cc.width = c.intrinsics.width;
-    cc.height = c.intrinsics.height;
+    cc.width = c.p_c.width;
+    cc.height = c.p_c.height;
     cc.rate_hz = c.rate_hz;
     SimCameraRenderer* r = device_renderers_.back().get();
     cc.generator = [r, epoch](drivers::Frame& f, uint64_t) {
@@ -92,7 +92,7 @@ std::vector<drivers::CalibratedCamera> Simulation::station_cameras() {
     const SceneCamera& c = scene_.cameras[i];
     drivers::CalibratedCamera sc;
     sc.source = cameras_[i].get();
-    sc.p_c = c.intrinsics;
+    sc.p_c = c.p_c;
     if (!scene_.effects.lens_distortion) {
       // Frames are ideal pinhole renders: nothing for the station to undistort.
       sc.p_c.distortion = {};

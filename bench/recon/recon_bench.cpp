@@ -220,7 +220,7 @@ void sim_table(int threads) {
   scene.cameras.push_back(right);
   sim::Simulation sim(scene);
   StereoRig rig;
-  rig.left = rig.right = scene.cameras[0].intrinsics;
+  rig.left = rig.right = scene.cameras[0].p_c;
   rig.left.distortion = rig.right.distortion = {};  // frames are ideal: lens_distortion not listed
   rig.left.distortion_count = rig.right.distortion_count = 0;
   rig.T_world_left = scene.cameras[0].T_world_cam;

@@ -33,13 +33,13 @@ void BM_BareCpuCompositorRender(benchmark::State& state) {
   const SceneCamera& cam = sim.scene().cameras[0];
   CpuCompositor cpu;
   ImageRgba8 out;
-  out.allocate(cam.intrinsics.width, cam.intrinsics.height);
+  out.allocate(cam.p_c.width, cam.p_c.height);
   CompositeRequest req;
   req.scene = &sim.model();
-  req.eye = cam.intrinsics;
+  req.eye = cam.p_c;
   req.T_world_eye = cam.T_world_cam;
   req.marking.style = hd::core::MarkingStyle::kNone;
-  req.viewport = {0, 0, cam.intrinsics.width, cam.intrinsics.height};
+  req.viewport = {0, 0, cam.p_c.width, cam.p_c.height};
   for (auto _ : state) {
     cpu.draw(req, out);
     benchmark::DoNotOptimize(out.data.data());

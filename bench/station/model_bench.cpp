@@ -51,7 +51,7 @@ struct DefaultSetup {
       sim.render_frame(c, static_cast<uint64_t>(5.0 * cam.rate_hz), frames[c]);
     }
     for (std::size_t c = 0; c < n; ++c) {
-      core::Pinhole k = sim.scene().cameras[c].intrinsics;
+      core::Pinhole k = sim.scene().cameras[c].p_c;
       k.distortion_count = 0;  // the pipeline hands the model undistorted frames
       views.push_back({&frames[c], k, sim.scene().cameras[c].T_world_cam});
     }

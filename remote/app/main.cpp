@@ -139,8 +139,8 @@ int main(int argc, char** argv) {
     hd::remote::RtpSendConfig c;
     c.host = address->host;
     c.port = static_cast<uint16_t>(address->port + 2 * i);
-    c.width_px = static_cast<int>(sc.intrinsics.width);
-    c.height_px = static_cast<int>(sc.intrinsics.height);
+    c.width_px = static_cast<int>(sc.p_c.width);
+    c.height_px = static_cast<int>(sc.p_c.height);
     c.rate_hz = sc.rate_hz;
     c.bitrate_kbps = bitrate_kbps;
     c.key_interval_s = key_interval_s;

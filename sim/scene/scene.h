@@ -16,6 +16,7 @@
 #include "core/pinhole.h"
 #include "core/pose.h"
 #include "core/workspace_box.h"
+#include "drivers/camera_description.h"
 
 namespace hd::sim {
 
@@ -65,17 +66,10 @@ struct SceneObject {
   double place_s = 0.0;
 };
 
-struct SceneCamera {
-  std::string name;          ///< the device id is "sim:<name>"
-  core::Pinhole intrinsics;  ///< with the lens's distortion coefficients (used by lens_distortion)
-  core::Pose T_world_cam;
-  double rate_hz = 30.0;
-  double d_m = 1.0;              ///< the plane distance the station projects this camera's video on
-  std::string calibration_file;  ///< when given as `calibration:` ("" = inline)
-  /// Video older than this at the display time is not shown as live (core/video_age.h);
-  /// 0: the default, core::default_max_video_age_s of rate_hz plus the scene's known delays.
-  double max_video_age_ms = 0.0;
-};
+/// A scene's camera: the station's camera description (drivers/camera_description.h), with id
+/// "sim:<name>" and rate_hz the simulated rate; the scene reader fills the same record station.yaml
+/// gives.
+using SceneCamera = drivers::CameraDescription;
 
 /// The operator's head (tracker frame = world frame): a CSV trajectory or scripted keyframes.
 struct HeadKeyframe {

@@ -117,6 +117,8 @@ core::Pose read_camera_pose(const YamlFields& pf) {
 SceneCamera read_camera(const YamlFields& c) {
   SceneCamera cam;
   cam.name = c.required_string("name");
+  cam.id = "sim:" + cam.name;
+  cam.line = c.line();
   if (cam.name.empty()) c.fail("name", "a camera needs a name");
   cam.rate_hz = c.optional_double("rate_hz", cam.rate_hz, Range{0.0, 1000.0, true, false});
   cam.d_m = c.required_double("d_m", Range::positive());
@@ -129,7 +131,7 @@ SceneCamera read_camera(const YamlFields& c) {
     require_file(c, "calibration", cam.calibration_file, "calibration file");
     try {
       const calib::CalibrationFile cf = calib::read_calibration_file(cam.calibration_file);
-      cam.intrinsics = cf.pinhole;
+      cam.p_c = cf.pinhole;
       if (cf.camera_pose) {
         cam.T_world_cam = *cf.camera_pose;
         have_pose = true;
@@ -139,7 +141,7 @@ SceneCamera read_camera(const YamlFields& c) {
     }
   } else {
     const YamlFields k = c.required_map("intrinsics");
-    core::Pinhole& p = cam.intrinsics;
+    core::Pinhole& p = cam.p_c;
     p.fx = k.required_double("fx", Range::positive());
     p.fy = k.required_double("fy", Range::positive());
     p.width = k.required_int("width", Range::closed(1, 16384));

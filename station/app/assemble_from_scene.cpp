@@ -6,9 +6,9 @@
 
 #include "core/video_age.h"
 #include "drivers/clock/monotonic_clock.h"
-#include "drivers/rtp/rtp_camera.h"
 #include "drivers/rtp/rtp_uri.h"
 #include "sim/scene_epoch.h"
+#include "station/app/camera_assembler.h"
 #include "station/app/report_text.h"
 #include "station/app/station_parts.h"
 
@@ -73,88 +73,42 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
   const std::vector<sim::SceneStereoPair> stereo =
       ground_truth ? std::vector<sim::SceneStereoPair>{} : sim.scene().stereo;
 
-  // Cameras: each simulated device through the station's pipeline, as a real one would be.
+  // Cameras: each simulated device through the station's pipeline, as a real one would be, or
+  // with --cameras-from the network camera hybrid-remote --scene sends it as.
+  CameraAssemblyContext ctx;
+  ctx.simulated = [&sim](const std::string& id) -> drivers::CameraSource* {
+    for (std::size_t i = 0; i < sim.scene().cameras.size(); ++i)
+      if (sim.camera(i).id() == id) return &sim.camera(i);
+    return nullptr;
+  };
+  ctx.known_delay_s = known_delay_s;
+  // With stereo pairs every camera hands every frame to the model: the updater then finds a
+  // pair's two frames of one exposure, and every camera's newest frame within a frame time of
+  // them, so the textures show the workspace at the instant the geometry was measured (with one
+  // frame per period a camera's newest could be a period older, and paint a moving object's
+  // colours where the reconstruction has nothing).
+  ctx.model_period_s = !stereo.empty() ? 0.0 : staleness ? staleness->period_s : 1.0;
+  ctx.await_network_cameras = true;
   const std::vector<drivers::CalibratedCamera> sim_cams = sim.station_cameras();
-  std::vector<std::string> opened_names;  // scene names of p->cameras, in order
   for (std::size_t i = 0; i < sim_cams.size(); ++i) {
-    const sim::SceneCamera& sc = sim.scene().cameras[i];
-    station::CameraPipelineConfig pc;
-    pc.p_c = sim_cams[i].p_c;
-    // What a network camera's streamed calibration is compared with (the same scene's: 0 px).
-    pc.T_world_cam = sim_cams[i].T_world_real;
-    pc.compare_depth_m = sim_cams[i].d_m;
-    pc.model_period_s = staleness ? staleness->period_s : 1.0;
-    // With stereo pairs every camera hands every frame to the model: the updater then finds a
-    // pair's two frames of one exposure, and every camera's newest frame within a frame time of
-    // them, so the textures show the workspace at the instant the geometry was measured (with
-    // one frame per period a camera's newest could be a period older, and paint a moving
-    // object's colours where the reconstruction has nothing).
-    if (!stereo.empty()) pc.model_period_s = 0.0;
-    std::unique_ptr<drivers::CameraSource> device;
-    std::string id = sim_cams[i].source->id();
-    std::string how =
-        fmt("simulated %gx%g RGBA8 at %g Hz, ", pc.p_c.width, pc.p_c.height, sc.rate_hz);
-    double link_delay_s = 0.0;
+    drivers::CameraDescription d = sim.scene().cameras[i];
+    d.p_c = sim_cams[i].p_c;  // without the lens_distortion effect: ideal, nothing to undo
+    std::string name = d.id;
     if (net) {
-      drivers::RtpReceiveConfig rc;
-      rc.listen = *net;
-      rc.listen.port = static_cast<uint16_t>(net->port + 2 * i);
+      drivers::RtpAddress at = *net;
+      at.port = static_cast<uint16_t>(net->port + 2 * i);
+      d.id = drivers::to_uri(at);
+      name = "net:" + d.name;
+      // A shared --scene-epoch already takes the two sites' CLOCK_REALTIME to agree (one host
+      // in the demo): capture times are mapped through it too, so a frame's time is its
+      // exposure's scene time exactly, not within an RTCP estimate's error.
       if (p->scene_epoch_ns != 0) {
-        // A shared --scene-epoch already takes the two sites' CLOCK_REALTIME to agree (one host
-        // in the demo): capture times are mapped through it too, so a frame's time is its
-        // exposure's scene time exactly, not within an RTCP estimate's error.
-        rc.clock = drivers::RtpReceiveConfig::Clock::kSynchronized;
-        rc.clock_error_ns = 0;
+        d.clock_synchronized = true;
+        d.clock_error_ms = 0.0;
       }
-      // What the link adds to a frame's age at most in the normal case: the jitter buffer and
-      // one frame time each for encoding and decoding.
-      link_delay_s = 1e-3 * rc.jitter_buffer_latency_ms + 2.0 / sc.rate_hz;
-      device = std::make_unique<drivers::RtpCamera>(std::move(rc));
-      id = "net:" + sc.name;
     }
-    auto pipe =
-        std::make_unique<station::CameraPipeline>(device ? *device : *sim_cams[i].source, pc);
-    try {
-      if (device) {
-        // The scene's calibration fixes the size; a stream learns its size at its first frame,
-        // and a frame of another size is never shown (drivers/rtp/rtp_camera.h).
-        const drivers::FormatNegotiation got =
-            pipe->negotiate({pc.p_c.width, pc.p_c.height, {}, 0.0});
-        how = "network camera " + device->id() + ", " + got.detail + ", " +
-              fmt("%gx%g at %g Hz from hybrid-remote --scene, ", pc.p_c.width, pc.p_c.height,
-                  sc.rate_hz);
-      } else {
-        pipe->open();
-      }
-    } catch (const std::exception& e) {
-      p->report.missing("camera", id, e.what(), false);
-      continue;
-    }
-    const Eigen::Vector3d& c = sim_cams[i].T_world_real.t;
-    const double max_age_s =
-        sc.max_video_age_ms > 0.0
-            ? 1e-3 * sc.max_video_age_ms
-            : core::default_max_video_age_s(sc.rate_hz, known_delay_s + link_delay_s);
-    p->report.opened(
-        "camera", id,
-        how + fmt("centre (%.2f, %.2f, %.2f) m, d = %g m", c.x(), c.y(), c.z(), sim_cams[i].d_m) +
-            (pipe->undistorting() ? ", undistorted by the pipeline" : "") +
-            (sc.calibration_file.empty() ? "" : ", calibration " + sc.calibration_file) +
-            fmt(", live while under %.0f ms old", 1e3 * max_age_s));
-    drivers::CalibratedCamera cam = sim_cams[i];
-    cam.source = pipe.get();
-    cam.max_video_age_s = max_age_s;
-    p->cameras.push_back(cam);
-    p->camera_names.push_back(id);
-    p->camera_calibration_files.push_back(sc.calibration_file);
-    opened_names.push_back(sc.name);
-    p->pipelines.push_back(std::move(pipe));
-    if (device) {
-      p->awaited_cameras.push_back(p->cameras.size() - 1);
-      p->devices.push_back(std::move(device));
-    } else {
-      p->devices.push_back(nullptr);  // inside the simulation; keeps devices[i] = cameras[i]
-    }
+    if (auto cam = assemble_camera(d, name, name, ctx, p->report))
+      p->cameras.push_back(std::move(*cam));
   }
 
   // Head: the scene's tracker frame is the workspace; re-centre brings the head back to where
@@ -178,25 +132,7 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
   // comparisons only, with the moving objects placed from the simulator's ground truth), and
   // re-textured from the cameras with the staleness the scene sets.
   p->model = ground_truth ? sim.model() : sim.static_model();
-  std::vector<station::ModelStereoPair> pairs;
-  for (const sim::SceneStereoPair& sp : stereo) {
-    const auto l = std::find(opened_names.begin(), opened_names.end(), sp.left);
-    const auto r = std::find(opened_names.begin(), opened_names.end(), sp.right);
-    const std::string name = sp.left + "+" + sp.right;
-    if (l == opened_names.end() || r == opened_names.end()) {
-      p->report.missing("stereo pair", name, "a camera of the pair did not open", true);
-      continue;
-    }
-    station::ModelStereoPair mp =
-        model_stereo_pair(sp, static_cast<std::size_t>(l - opened_names.begin()),
-                          static_cast<std::size_t>(r - opened_names.begin()), workspace);
-    pairs.push_back(mp);
-  }
-  if ((staleness || !pairs.empty()) && !p->pipelines.empty()) {
-    std::vector<station::ModelCamera> mc;
-    for (std::size_t i = 0; i < p->pipelines.size(); ++i)
-      mc.push_back(
-          {&p->pipelines[i]->model_frames(), p->cameras[i].p_c, p->cameras[i].T_world_real});
+  if ((staleness || !stereo.empty()) && !p->cameras.empty()) {
     station::ModelUpdaterConfig uc;
     uc.refresh_period_s = staleness ? staleness->period_s : 1.0;
     uc.delay_s = staleness ? staleness->delay_s : 0.0;
@@ -205,21 +141,10 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
         sim.place_objects(m, sim.scene_time_s(capture_ns));
       };
     }
-    uc.stereo_pairs = pairs;
-    p->updater_clock = std::make_unique<render::MonotonicLoopClock>();
-    try {
-      p->updater = std::make_unique<station::ModelUpdater>(p->model, mc, uc, *p->updater_clock);
-    } catch (const std::exception& e) {
-      // A pair that cannot be reconstructed: the model is re-textured without reconstruction.
-      p->report.missing("stereo pair", "model", e.what(), true);
-      uc.stereo_pairs.clear();
-      p->updater = std::make_unique<station::ModelUpdater>(p->model, mc, uc, *p->updater_clock);
-    }
+    const std::string names = add_model_updater(*p, uc, stereo, workspace);
     std::string recon_note = "moved objects: ground truth (comparison only)";
     if (!ground_truth) {
       recon_note = "moved objects: reconstructed by ";
-      std::string names;
-      for (const auto& mp : uc.stereo_pairs) names += (names.empty() ? "" : ", ") + mp.name;
       recon_note += names.empty() ? "no stereo pair (not in the model)" : names;
     }
     p->report.opened("model", "scene geometry",

@@ -4,13 +4,12 @@
 
 namespace hd::station {
 
-void CameraEventLog::poll(const std::vector<drivers::CameraSource*>& cameras,
-                          const std::vector<std::string>& names) {
-  for (std::size_t i = 0; i < cameras.size(); ++i) {
+void CameraEventLog::poll(std::span<const StationCamera> cameras) {
+  for (const StationCamera& c : cameras) {
     drivers::FormatEvent e;
-    while (cameras[i]->pop_format_event(e)) {
+    while (c.pipeline->pop_format_event(e)) {
       CameraEventRecord r;
-      r.camera = i < names.size() ? names[i] : cameras[i]->id();
+      r.camera = c.name;
       r.kind = e.kind == drivers::FormatEventKind::kLost ? "format_lost" : "format_restored";
       r.cause = std::string(drivers::to_string(e.cause));
       r.time_ns = e.time_ns;
@@ -24,25 +23,23 @@ void CameraEventLog::poll(const std::vector<drivers::CameraSource*>& cameras,
   }
 }
 
-void CameraEventLog::poll_calibrations(const std::vector<CameraPipeline*>& pipelines,
-                                       const std::vector<std::string>& names,
-                                       const std::vector<std::string>& files) {
-  for (std::size_t i = 0; i < pipelines.size(); ++i) {
+void CameraEventLog::poll_calibrations(std::span<const StationCamera> cameras) {
+  for (const StationCamera& c : cameras) {
     CalibrationEvent e;
-    while (pipelines[i]->pop_calibration_event(e)) {
+    while (c.pipeline->pop_calibration_event(e)) {
       const bool warn = e.differs_from_file_px > kCalibrationWarnPx;
       if (!e.first && !e.intrinsics_changed && !warn) {
         ++pose_revisions_;
         continue;
       }
       CameraEventRecord r;
-      r.camera = i < names.size() ? names[i] : pipelines[i]->id();
+      r.camera = c.name;
       r.kind = "calibration_from_stream";
       r.cause = "revision " + std::to_string(e.revision);
       r.time_ns = e.time_ns;
       r.t_s = 1e-9 * static_cast<double>(e.time_ns - start_ns_);
       r.seen = calibration_text(e.p_c, e.T_world_cam);
-      const std::string file = i < files.size() ? files[i] : "";
+      const std::string& file = c.description.calibration_file;
       if (!file.empty()) {
         char d[160];
         std::snprintf(

@@ -7,8 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "drivers/camera_source.h"
-#include "station/video/camera_pipeline.h"
+#include <span>
+
+#include "station/app/station_camera.h"
 
 namespace hd::station {
 
@@ -28,16 +29,14 @@ class CameraEventLog {
   /// Lines go to `out`; times are reported relative to `start_ns` (CLOCK_MONOTONIC).
   CameraEventLog(std::FILE* out, int64_t start_ns) : out_(out), start_ns_(start_ns) {}
 
-  /// Takes every pending event of each camera (`names[i]` names `cameras[i]`) and prints it.
-  void poll(const std::vector<drivers::CameraSource*>& cameras,
-            const std::vector<std::string>& names);
+  /// Takes every pending format event of each camera (its device's and its pipeline's) and
+  /// prints it.
+  void poll(std::span<const StationCamera> cameras);
 
   /// Takes every calibration the pipelines took from their streams and prints it (the first,
-  /// and each with new intrinsics or more than 0.5 px from the file; a moving camera's new
-  /// poses are only counted); `files[i]` is camera i's calibration file ("" none).
-  void poll_calibrations(const std::vector<CameraPipeline*>& pipelines,
-                         const std::vector<std::string>& names,
-                         const std::vector<std::string>& files);
+  /// and each with new intrinsics or more than 0.5 px from the camera's calibration file; a
+  /// moving camera's new poses are only counted).
+  void poll_calibrations(std::span<const StationCamera> cameras);
   /// Stream calibrations taken but not printed (new poses of a moving camera).
   uint64_t pose_revisions() const { return pose_revisions_; }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/camera_link.h"
 #include "render/latency/latency_recorder.h"
 #include "station/app/camera_events.h"
 #include "station/app/usability_log.h"
@@ -29,25 +30,15 @@ struct RunSummary {
   std::vector<uint64_t> camera_frames_rejected;  ///< by the pipeline (wrong size / format)
   std::vector<uint64_t> camera_frames_lost;      ///< by the device: sequence gaps, overruns
   std::vector<CameraEventRecord> camera_events;  ///< format lost / restored, in the order seen
-  /// What each network camera (rtp://) received: drivers/rtp/rtp_camera.h's counters.
-  struct NetworkCamera {
-    std::string camera;    ///< its name
-    std::string security;  ///< "SRTP AES-128-GCM (key file F)" or "none"
-    uint64_t packets = 0, bytes = 0, malformed = 0, srtp_rejected = 0, frames_stamped = 0,
-             frames_unstamped = 0, not_newer = 0, bus_errors = 0, pli_sent = 0, nack_sent = 0;
-    /// RTX packets received; view feedback messages sent (bandwidth follows the view) and how
-    /// often the camera's need changed.
-    uint64_t rtx_received = 0, view_feedback_sent = 0, need_changes = 0;
-    std::string last_error;
+  /// What each network camera received (its link's report, drivers/camera_link.h) and what the
+  /// station made of it.
+  struct NetworkCamera : drivers::LinkReport {
+    std::string camera;         ///< its name
+    uint64_t need_changes = 0;  ///< how often the view's need of it changed
     /// Where its p_c / P_c came from at the end: "stream (revision N)", "file F", or "none
-    /// (no calibration arrived)"; calibration elements refused; frames not shown for want of one.
+    /// (no calibration arrived)"; frames not shown for want of one.
     std::string calibration;
-    uint64_t calibration_errors = 0, frames_uncalibrated = 0;
-    /// The sender-clock mapping at the end (drivers/rtp/clock_offset_estimator.h):
-    /// capture_mono = sender_unix + clock_offset_ns, within ±clock_uncertainty_ns (-1 unknown).
-    std::string clock_mapping;
-    int64_t clock_offset_ns = 0, clock_uncertainty_ns = -1, clock_round_trip_ns = -1;
-    uint64_t clock_samples = 0, sender_reports = 0, capture_after_arrival = 0;
+    uint64_t frames_uncalibrated = 0;
   };
   std::vector<NetworkCamera> network_cameras;
   std::string cameras_from;  ///< --cameras-from ("": the scene's cameras simulated in-process)

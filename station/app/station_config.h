@@ -10,6 +10,7 @@
 #include "core/pose.h"
 #include "core/transition.h"
 #include "core/workspace_box.h"
+#include "drivers/camera_description.h"
 #include "render/lens/hmd_profile.h"
 #include "sim/scene/config_error.h"
 #include "sim/scene/scene.h"
@@ -19,30 +20,12 @@ namespace hd::station {
 /// One camera: the driver id (as hybrid-calib's camera factory takes it: /dev/videoN, a GigE id,
 /// mock[:WxH]), its calibration from hybrid-calib (p_c with distortion, and P_c unless `pose`
 /// overrides it) and the plane distance d.
-struct CameraConfig {
-  std::string name;  ///< for reports ("camera0" when not given)
-  std::string id;    ///< driver id
-  /// Resolved against the config file's directory. "" only for an rtp:// camera: p_c and P_c
-  /// then come from the stream (p_c not valid, R zero, until the first calibration arrives).
-  std::string calibration_file;
-  core::Pinhole p_c;       ///< read from the calibration file
-  core::Pose T_world_cam;  ///< from the calibration file, or `pose:` in station.yaml
-  double d_m = 1.0;
-  /// Video older than this at the display time is not shown as live (core/video_age.h);
-  /// 0: the default, core::default_max_video_age_s of the rate the camera delivers.
-  double max_video_age_ms = 0.0;
-  bool optional = false;  ///< a camera that cannot be opened is skipped instead of fatal
-  /// A network camera's pre-shared SRTP key file (resolved; "" = no encryption). Its stream
-  /// must then be SRTP with this key; anything else is rejected and counted.
-  std::string key_file;
-  /// A network camera's clocks: false (`clock: measured`, the default) maps the sender's capture
-  /// times through the offset measured from its RTCP sender reports and round trip; true
-  /// (`clock: synchronized`, sites with chrony/PTP) through this host's CLOCK_REALTIME, with
-  /// `clock_error_ms` (default 1) as the uncertainty.
-  bool clock_synchronized = false;
-  double clock_error_ms = 1.0;
-  int line = 0;  ///< where it is in station.yaml, for messages
-};
+/// A camera of station.yaml: the record a scene's camera is too (drivers/camera_description.h).
+/// name is "camera<i>" when not given; calibration_file is resolved against the config file's
+/// directory, and "" only for an rtp:// camera: p_c and P_c then come from the stream (p_c not
+/// valid, R zero, until the first calibration arrives); T_world_cam from the calibration file or
+/// `pose:`.
+using CameraConfig = drivers::CameraDescription;
 
 /// The head tracker: "mock" (a simulated Android head tracker behind the real HID parser),
 /// "hid" (the first head tracker hidapi finds), a hidraw path (/dev/hidrawN) or a USB id

@@ -15,7 +15,7 @@ StationParts::~StationParts() {
 void StationParts::start() {
   if (started_) return;
   started_ = true;
-  for (auto& p : pipelines) p->start();
+  for (StationCamera& c : cameras) c.pipeline->start();
   if (head) head->start();
   if (updater) updater->start();
 }
@@ -25,7 +25,56 @@ void StationParts::stop() {
   started_ = false;
   if (updater) updater->stop();
   if (head) head->stop();
-  for (auto& p : pipelines) p->stop();
+  for (StationCamera& c : cameras) c.pipeline->stop();
+}
+
+std::vector<drivers::CalibratedCamera> StationParts::calibrated_cameras() const {
+  std::vector<drivers::CalibratedCamera> out;
+  for (const StationCamera& c : cameras) out.push_back(c.calibrated);
+  return out;
+}
+
+std::vector<std::string> StationParts::camera_names() const {
+  std::vector<std::string> out;
+  for (const StationCamera& c : cameras) out.push_back(c.name);
+  return out;
+}
+
+int StationParts::camera_index(const std::string& name) const {
+  for (std::size_t i = 0; i < cameras.size(); ++i)
+    if (cameras[i].description.name == name) return static_cast<int>(i);
+  return -1;
+}
+
+std::string add_model_updater(StationParts& p, station::ModelUpdaterConfig uc,
+                              const std::vector<sim::SceneStereoPair>& stereo,
+                              const core::WorkspaceBox& workspace) {
+  std::vector<station::ModelCamera> mc;
+  for (const StationCamera& c : p.cameras)
+    mc.push_back({&c.pipeline->model_frames(), c.calibrated.p_c, c.calibrated.T_world_real});
+  for (const sim::SceneStereoPair& sp : stereo) {
+    const int l = p.camera_index(sp.left), r = p.camera_index(sp.right);
+    if (l < 0 || r < 0) {
+      p.report.missing("stereo pair", sp.left + "+" + sp.right, "a camera of the pair did not open",
+                       true);
+      continue;
+    }
+    uc.stereo_pairs.push_back(
+        model_stereo_pair(sp, static_cast<std::size_t>(l), static_cast<std::size_t>(r), workspace));
+  }
+  p.updater_clock = std::make_unique<render::MonotonicLoopClock>();
+  try {
+    p.updater = std::make_unique<station::ModelUpdater>(p.model, mc, uc, *p.updater_clock);
+  } catch (const std::exception& e) {
+    // A pair that cannot be one (RigError names why): re-textured without reconstruction.
+    p.report.missing("stereo pair", "model", e.what(), true);
+    uc.stereo_pairs.clear();
+    p.updater = std::make_unique<station::ModelUpdater>(p.model, mc, uc, *p.updater_clock);
+  }
+  std::string names;
+  for (const station::ModelStereoPair& mp : p.updater->config().stereo_pairs)
+    names += (names.empty() ? "" : ", ") + mp.name;
+  return names;
 }
 
 station::ModelStereoPair model_stereo_pair(const sim::SceneStereoPair& sp, std::size_t left,

@@ -14,6 +14,7 @@
 #include "sim/simulation.h"
 #include "station/app/run_options.h"
 #include "station/app/startup_report.h"
+#include "station/app/station_camera.h"
 #include "station/app/station_config.h"
 #include "station/frame/station_frame.h"
 #include "station/model/model_updater.h"
@@ -23,24 +24,17 @@
 namespace hd::station {
 
 /// Owns every device and stage of one run. Members are declared in dependency order so they are
-/// destroyed consumers first (updater, then pose alignment, pipelines, devices, simulator).
+/// destroyed consumers first (updater, then pose alignment and tracker, cameras, simulator).
 struct StationParts {
   StartupReport report;
   std::string source_kind;  ///< "scene" or "config"
   std::string source_file;
 
-  // Owned devices (a scene's are inside `simulation`).
-  std::unique_ptr<sim::Simulation> simulation;
-  std::vector<std::unique_ptr<drivers::CameraSource>> devices;
+  std::unique_ptr<sim::Simulation> simulation;  ///< a scene's devices live in it
+  /// Every camera that opened, in the file's order: device, pipeline, calibration, link.
+  std::vector<StationCamera> cameras;
   std::unique_ptr<drivers::PoseSource> tracker;
-
-  std::vector<std::unique_ptr<station::CameraPipeline>> pipelines;
   std::unique_ptr<station::AlignedPoseSource> head;
-  std::vector<drivers::CalibratedCamera> cameras;  ///< sources = pipelines
-  std::vector<std::string> camera_names;
-  /// Per camera: its calibration file ("" none: a scene's inline one, or a network camera's
-  /// from the stream).
-  std::vector<std::string> camera_calibration_files;
   render::SyntheticScene model;  ///< the a-priori model (drawn as is without an updater)
   std::unique_ptr<render::LoopClock> updater_clock;
   std::unique_ptr<station::ModelUpdater> updater;
@@ -56,14 +50,19 @@ struct StationParts {
   int64_t scene_epoch_ns = 0;
   std::string scene_epoch_text;  ///< as given
   std::string cameras_from;      ///< --cameras-from as given ("" simulated here)
-  /// Cameras the loop waits for before its first frame (the network's), and for how long.
-  std::vector<std::size_t> awaited_cameras;
-  double camera_wait_s = 0.0;
+  double camera_wait_s = 0.0;    ///< how long the loop waits for its awaited cameras
 
   StationParts() = default;
   StationParts(const StationParts&) = delete;
   StationParts& operator=(const StationParts&) = delete;
   ~StationParts();
+
+  /// What StationFrame measures and draws: each camera's calibrated camera, in order.
+  std::vector<drivers::CalibratedCamera> calibrated_cameras() const;
+  /// Each camera's name, in order (frames.csv's camera column).
+  std::vector<std::string> camera_names() const;
+  /// The index of the camera the scene or station.yaml calls `name`, or -1.
+  int camera_index(const std::string& name) const;
 
   /// Starts pipelines (and so their devices), the head and the model updater.
   void start();
@@ -80,6 +79,14 @@ struct StationParts {
 /// `left` / `right` by index into the updater's cameras, vertices kept inside `workspace`.
 station::ModelStereoPair model_stereo_pair(const sim::SceneStereoPair& pair, std::size_t left,
                                            std::size_t right, const core::WorkspaceBox& workspace);
+
+/// The model updater over every camera of `p`: re-textures p.model from their frames (with
+/// uc's period and delay) and reconstructs the stereo pairs, matched to cameras by name (a pair
+/// whose camera did not open, or that cannot be one, is reported and left out). Returns the
+/// pairs in use ("cam0+cam0r, ..."; "" none).
+std::string add_model_updater(StationParts& p, station::ModelUpdaterConfig uc,
+                              const std::vector<sim::SceneStereoPair>& stereo,
+                              const core::WorkspaceBox& workspace);
 
 void configure_frame(StationParts& p, DisplayConfig display, core::TransitionParams transition,
                      core::MarkingParams marking, const core::WorkspaceBox& workspace,

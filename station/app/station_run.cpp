@@ -17,7 +17,6 @@
 
 #include "calib/camera_factory.h"
 #include "core/allocation_counter.h"
-#include "drivers/rtp/rtp_camera.h"
 #include "render/compositor/cpu_compositor.h"
 #include "render/gl/gl_compositor.h"
 #include "render/latency/latency_recorder.h"
@@ -94,31 +93,32 @@ void wait_for_first_head_sample(drivers::PoseSource& head, render::LoopClock& cl
 // usable (its m is +inf until it streams). Nothing is shown meanwhile, so no frame of the run is
 // synthetic only because the remote site was still starting.
 void wait_for_network_cameras(const StationParts& p, render::LoopClock& clock) {
-  if (p.awaited_cameras.empty()) return;
+  std::vector<const StationCamera*> awaited;
+  for (const StationCamera& c : p.cameras)
+    if (c.awaited) awaited.push_back(&c);
+  if (awaited.empty()) return;
   const int64_t start = clock.now_ns();
   const auto deadline = start + static_cast<int64_t>(p.camera_wait_s * 1e9);
   std::printf("  waiting up to %.0f s for the first frames of %zu network camera(s)\n",
-              p.camera_wait_s, p.awaited_cameras.size());
+              p.camera_wait_s, awaited.size());
   std::fflush(stdout);
-  std::vector<bool> seen(p.awaited_cameras.size(), false);
-  std::size_t left = seen.size();
+  std::size_t left = awaited.size();
   while (left > 0 && !g_interrupted.load()) {
-    for (std::size_t k = 0; k < p.awaited_cameras.size(); ++k) {
-      const std::size_t i = p.awaited_cameras[k];
-      if (seen[k] || p.cameras[i].source->state() != drivers::SourceState::kStreaming) continue;
-      seen[k] = true;
-      --left;
-      std::printf("  camera %s: first frame %.2f s after the wait began\n",
-                  p.camera_names[i].c_str(), 1e-9 * static_cast<double>(clock.now_ns() - start));
+    for (const StationCamera*& c : awaited) {
+      if (c == nullptr || c->pipeline->state() != drivers::SourceState::kStreaming) continue;
+      std::printf("  camera %s: first frame %.2f s after the wait began\n", c->name.c_str(),
+                  1e-9 * static_cast<double>(clock.now_ns() - start));
       std::fflush(stdout);
+      c = nullptr;  // seen
+      --left;
     }
     if (left == 0 || clock.now_ns() >= deadline) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-  for (std::size_t k = 0; k < seen.size(); ++k)
-    if (!seen[k])
+  for (const StationCamera* c : awaited)
+    if (c != nullptr)
       std::printf("  camera %s: no frame after %.0f s: not usable until it streams\n",
-                  p.camera_names[p.awaited_cameras[k]].c_str(), p.camera_wait_s);
+                  c->name.c_str(), p.camera_wait_s);
   std::fflush(stdout);
 }
 
@@ -220,8 +220,9 @@ int run(const RunOptions& o) {
   std::unique_ptr<station::PosePredictor> predictor = make_predictor(p.predictor);
   render::MonotonicLoopClock clock;
   render::LatencyRecorder latency(log_rows);
-  station::StationFrame frame(p.frame_config, p.cameras, *p.head, *predictor, *compositor, &p.model,
-                              clock, latency);
+  const std::vector<std::string> camera_names = p.camera_names();
+  station::StationFrame frame(p.frame_config, p.calibrated_cameras(), *p.head, *predictor,
+                              *compositor, &p.model, clock, latency);
   if (p.updater) frame.set_model_updater(p.updater.get());
   FrameLog log(log_rows);
   const int width = p.frame_config.picture_width();
@@ -262,12 +263,6 @@ int run(const RunOptions& o) {
   CameraEventLog camera_events(stdout, start_ns);
   // So is every camera becoming unusable (too old, not streaming) and usable again.
   UsabilityLog usability(stdout, start_ns, p.cameras.size());
-  std::vector<drivers::CameraSource*> event_sources;
-  std::vector<station::CameraPipeline*> pipelines;
-  for (const auto& pipe : p.pipelines) {
-    event_sources.push_back(pipe.get());
-    pipelines.push_back(pipe.get());
-  }
   // Bandwidth follows the view (docs/network.md): network cameras the view cannot use soon are
   // told so and sent at a low rate; the others (and every camera of an old sender) at full rate.
   station::CameraNeedParams need_params;
@@ -278,10 +273,7 @@ int run(const RunOptions& o) {
       if (pair.left < p.cameras.size()) need.keep(pair.left);
       if (pair.right < p.cameras.size()) need.keep(pair.right);
     }
-  std::vector<drivers::RtpCamera*> network(p.cameras.size(), nullptr);
   std::vector<uint64_t> need_changes(p.cameras.size(), 0);
-  for (std::size_t i = 0; i < p.devices.size() && i < network.size(); ++i)
-    network[i] = dynamic_cast<drivers::RtpCamera*>(p.devices[i].get());
   for (;;) {
     if (o.frames && loop.frames() >= o.frames) break;
     if (!o.frames && seconds > 0.0 && clock.now_ns() >= end_ns) break;
@@ -295,14 +287,14 @@ int run(const RunOptions& o) {
       progress.model_done(ms.updates, ms.reconstructions);
     }
     progress.frame_done(frame.last_row().variant, loop.frames(), loop.missed_deadlines(), now);
-    camera_events.poll(event_sources, p.camera_names);
-    camera_events.poll_calibrations(pipelines, p.camera_names, p.camera_calibration_files);
-    usability.poll(frame, p.camera_names);
+    camera_events.poll(p.cameras);
+    camera_events.poll_calibrations(p.cameras);
+    usability.poll(frame, camera_names);
     need.update(frame.view_m(), frame.selector().current(), now);
-    for (std::size_t i = 0; i < network.size(); ++i)
-      if (network[i] != nullptr) {
-        need_changes[i] += network[i]->view_needed() != need.needed(i);
-        network[i]->set_view_needed(need.needed(i));
+    for (std::size_t i = 0; i < p.cameras.size(); ++i)
+      if (drivers::CameraLink* link = p.cameras[i].link) {
+        need_changes[i] += link->view_needed() != need.needed(i);
+        link->set_view_needed(need.needed(i));
       }
     if (now >= next_hud_ns) {
       next_hud_ns = now + 500'000'000;
@@ -323,9 +315,9 @@ int run(const RunOptions& o) {
   const double loop_s = 1e-9 * static_cast<double>(clock.now_ns() - start_ns);
   const uint64_t allocations = core::counted_allocations();
   p.stop();
-  camera_events.poll(event_sources, p.camera_names);
-  camera_events.poll_calibrations(pipelines, p.camera_names, p.camera_calibration_files);
-  usability.poll(frame, p.camera_names);
+  camera_events.poll(p.cameras);
+  camera_events.poll_calibrations(p.cameras);
+  usability.poll(frame, camera_names);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   const FrameRecorderStats rec = recorder.finish();
@@ -347,54 +339,26 @@ int run(const RunOptions& o) {
     s.guidance_frames += r.decision.guidance;
   }
   s.camera_switches = frame.selector().switches();
-  s.camera_names = p.camera_names;
+  s.camera_names = camera_names;
   s.camera_frames_shown = frame.frames_fetched();
-  for (const auto& pipe : p.pipelines) {
-    s.camera_frames_rejected.push_back(pipe->rejected());
-    s.camera_frames_lost.push_back(pipe->device_dropped_frames());
-  }
-  s.camera_events = camera_events.events();
-  for (std::size_t i = 0; i < p.devices.size() && i < p.camera_names.size(); ++i) {
-    const auto* net = dynamic_cast<const drivers::RtpCamera*>(p.devices[i].get());
-    if (net == nullptr) continue;
-    const drivers::RtpCameraStats st = net->stats();
-    const drivers::RtpCamera::Feedback fb = net->feedback();
+  for (std::size_t i = 0; i < p.cameras.size(); ++i) {
+    const StationCamera& c = p.cameras[i];
+    s.camera_frames_rejected.push_back(c.pipeline->rejected());
+    s.camera_frames_lost.push_back(c.pipeline->device_dropped_frames());
+    if (c.link == nullptr) continue;
     RunSummary::NetworkCamera n;
-    n.camera = p.camera_names[i];
-    n.security = net->config().srtp_key
-                     ? "SRTP AES-128-GCM (key file " + net->config().srtp_key->file + ")"
-                     : "none";
-    n.packets = st.packets;
-    n.bytes = st.bytes;
-    n.malformed = st.malformed_total;
-    n.srtp_rejected = st.srtp_rejected;
-    n.frames_stamped = st.stamped_frames;
-    n.frames_unstamped = st.unstamped_frames;
-    n.not_newer = st.not_newer;
-    n.bus_errors = st.bus_errors;
-    n.pli_sent = fb.pli_sent;
-    n.nack_sent = fb.nack_sent;
-    n.rtx_received = fb.rtx_received;
-    n.view_feedback_sent = fb.view_feedback_sent;
-    n.need_changes = i < need_changes.size() ? need_changes[i] : 0;
-    n.last_error = st.last_error;
-    const int64_t revision = i < p.pipelines.size() ? p.pipelines[i]->stream_revision() : -1;
-    const std::string file =
-        i < p.camera_calibration_files.size() ? p.camera_calibration_files[i] : "";
+    static_cast<drivers::LinkReport&>(n) = c.link->link_report();
+    n.camera = c.name;
+    n.need_changes = need_changes[i];
+    const int64_t revision = c.pipeline->stream_revision();
+    const std::string& file = c.description.calibration_file;
     n.calibration = revision >= 0  ? "stream (revision " + std::to_string(revision) + ")"
                     : file.empty() ? "none (no calibration arrived: never shown)"
                                    : "file " + file;
-    n.calibration_errors = st.calibration_errors_total;
-    n.frames_uncalibrated = i < p.pipelines.size() ? p.pipelines[i]->uncalibrated() : 0;
-    n.clock_mapping = drivers::to_string(st.clock.kind);
-    n.clock_offset_ns = st.clock.offset_ns;
-    n.clock_uncertainty_ns = st.clock.uncertainty_ns;
-    n.clock_round_trip_ns = st.clock.round_trip_ns;
-    n.clock_samples = st.clock.samples;
-    n.sender_reports = st.sender_reports;
-    n.capture_after_arrival = st.capture_after_arrival;
+    n.frames_uncalibrated = c.pipeline->uncalibrated();
     s.network_cameras.push_back(n);
   }
+  s.camera_events = camera_events.events();
   s.cameras_from = p.cameras_from;
   s.scene_epoch = p.scene_epoch_text;
   if (p.scene_epoch_ns != 0)
@@ -420,7 +384,7 @@ int run(const RunOptions& o) {
   const std::string dir = o.out_dir + "/";
   latency.write_csv(dir + "latency.csv");
   latency.write_png(dir + "latency.png");
-  write_frames_csv(log, p.camera_names, dir + "frames.csv");
+  write_frames_csv(log, camera_names, dir + "frames.csv");
   s.outputs = {dir + "latency.csv", dir + "latency.png", dir + "frames.csv"};
   if (log.size() > 0) {
     write_trace_png(log, p.frame_config.transition, dir + "trace.png");
@@ -433,16 +397,17 @@ int run(const RunOptions& o) {
     // reconstructed part tinted.
     p.updater->models().fetch();
     const station::ModelSnapshot& snap = p.updater->models().latest();
+    const std::vector<drivers::CalibratedCamera> cams = p.calibrated_cameras();
     std::size_t view = 0;
-    for (std::size_t i = 1; i < p.cameras.size(); ++i)
-      if ((p.cameras[i].T_world_real.t - p.cameras[0].T_world_real.t).norm() >
-          (p.cameras[view].T_world_real.t - p.cameras[0].T_world_real.t).norm())
+    for (std::size_t i = 1; i < cams.size(); ++i)
+      if ((cams[i].T_world_real.t - cams[0].T_world_real.t).norm() >
+          (cams[view].T_world_real.t - cams[0].T_world_real.t).norm())
         view = i;
     // (Cameras calibrated from a stream have no fixed p_c here; the pairs that reconstruct
     // need files, so the tile's camera has one whenever there is a reconstruction.)
-    if (snap.scene.meshes.size() > snap.prior_meshes && p.cameras[view].p_c.valid())
+    if (snap.scene.meshes.size() > snap.prior_meshes && cams[view].p_c.valid())
       thumbs.set_extra_tile(
-          station::render_model_tile(snap, p.cameras[view].p_c, p.cameras[view].T_world_real),
+          station::render_model_tile(snap, cams[view].p_c, cams[view].T_world_real),
           station::model_tile_label(snap));
   }
   if (thumbs.size() > 0) {

@@ -73,13 +73,13 @@ TEST(SimEffects, EmptyListIsExactlyAPlainCpuCompositorRender) {
   render::CpuCompositor cpu;
   render::ImageRgba8 expected;
   const SceneCamera& cam = sim.scene().cameras[0];
-  expected.allocate(cam.intrinsics.width, cam.intrinsics.height);
+  expected.allocate(cam.p_c.width, cam.p_c.height);
   render::CompositeRequest req;
   req.scene = &sim.model();
-  req.eye = cam.intrinsics;
+  req.eye = cam.p_c;
   req.T_world_eye = cam.T_world_cam;
   req.marking.style = core::MarkingStyle::kNone;
-  req.viewport = {0, 0, cam.intrinsics.width, cam.intrinsics.height};
+  req.viewport = {0, 0, cam.p_c.width, cam.p_c.height};
   cpu.draw(req, expected);
   ASSERT_EQ(f.data.size(), expected.data.size());
   EXPECT_TRUE(f.data == expected.data);

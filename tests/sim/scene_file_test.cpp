@@ -46,8 +46,8 @@ TEST(SceneFile, MinimalSceneParsesWithDefaults) {
   EXPECT_EQ(s.name, "t");
   ASSERT_EQ(s.cameras.size(), 1u);
   EXPECT_EQ(s.cameras[0].name, "c0");
-  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.cx, 32.0);  // default: the image centre
-  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.cy, 24.0);
+  EXPECT_DOUBLE_EQ(s.cameras[0].p_c.cx, 32.0);  // default: the image centre
+  EXPECT_DOUBLE_EQ(s.cameras[0].p_c.cy, 24.0);
   EXPECT_DOUBLE_EQ(s.cameras[0].rate_hz, 30.0);
   EXPECT_TRUE(s.effects.empty());
   EXPECT_EQ(s.head.keyframes.size(), 1u);
@@ -70,7 +70,7 @@ TEST(SceneFile, DefaultSceneRoundTrip) {
   EXPECT_EQ(s.objects[0].keyframes.size(), 9u);
   EXPECT_DOUBLE_EQ(s.objects[0].keyframes[4].yaw_deg, 30.0);
   ASSERT_EQ(s.cameras.size(), 3u);
-  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.fx, 420.0);
+  EXPECT_DOUBLE_EQ(s.cameras[0].p_c.fx, 420.0);
   // cam0r: cam0's stereo twin, 0.12 m along cam0's own x axis, same orientation.
   EXPECT_EQ(s.cameras[2].name, "cam0r");
   EXPECT_NEAR((s.cameras[2].T_world_cam.t - s.cameras[0].T_world_cam.t -
@@ -82,10 +82,10 @@ TEST(SceneFile, DefaultSceneRoundTrip) {
   EXPECT_EQ(s.stereo[0].left, "cam0");
   EXPECT_EQ(s.stereo[0].right, "cam0r");
   EXPECT_EQ(s.model.moved_objects, MovedObjects::kReconstructed);
-  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.distortion[0], -0.12);
-  EXPECT_DOUBLE_EQ(s.cameras[0].intrinsics.distortion[1], 0.03);
-  EXPECT_EQ(s.cameras[0].intrinsics.distortion_count, 5);
-  EXPECT_EQ(s.cameras[1].intrinsics.distortion_count, 0);
+  EXPECT_DOUBLE_EQ(s.cameras[0].p_c.distortion[0], -0.12);
+  EXPECT_DOUBLE_EQ(s.cameras[0].p_c.distortion[1], 0.03);
+  EXPECT_EQ(s.cameras[0].p_c.distortion_count, 5);
+  EXPECT_EQ(s.cameras[1].p_c.distortion_count, 0);
   // cam1 looks at the table centre: its optical axis points there, its x axis is horizontal.
   const core::Pose& p1 = s.cameras[1].T_world_cam;
   const Eigen::Vector3d to_target = (Eigen::Vector3d(0, 0.4, 1.4) - p1.t).normalized();
@@ -229,7 +229,7 @@ TEST(SceneFile, CameraFromCalibrationFile) {
       replace_line(kMinimal, 8, "    calibration: cam.yaml\n"), 9,
       "    pose: {position: [0.1, 0, 0]}\n");
   const Scene s = load_scene((dir / "s.yaml").string());
-  const core::Pinhole& k = s.cameras[0].intrinsics;
+  const core::Pinhole& k = s.cameras[0].p_c;
   EXPECT_DOUBLE_EQ(k.fx, 110.0);
   EXPECT_DOUBLE_EQ(k.fy, 112.0);
   EXPECT_DOUBLE_EQ(k.cx, 32.0);  // OpenCV's 31.5 (centres at integers) is core's image centre

@@ -21,12 +21,12 @@ Scene small_default() {
   // The default scene at a tenth of the resolution keeps the test fast under sanitizers.
   Scene s = load_scene((kScenes / "bare.yaml").string());
   for (SceneCamera& c : s.cameras) {
-    c.intrinsics.fx /= 4;
-    c.intrinsics.fy /= 4;
-    c.intrinsics.cx /= 4;
-    c.intrinsics.cy /= 4;
-    c.intrinsics.width /= 4;
-    c.intrinsics.height /= 4;
+    c.p_c.fx /= 4;
+    c.p_c.fy /= 4;
+    c.p_c.cx /= 4;
+    c.p_c.cy /= 4;
+    c.p_c.width /= 4;
+    c.p_c.height /= 4;
   }
   return s;
 }
@@ -97,7 +97,7 @@ TEST(Simulation, RenderedBlockMovesWithItsKeyframes) {
   sim.render_frame(0, 0, f0);
   sim.render_frame(0, 210, f7);
   EXPECT_EQ(f7.host_timestamp_ns, int64_t{210} * 33'333'333);  // 30 Hz grid
-  const core::Pinhole& k = sim.scene().cameras[0].intrinsics;
+  const core::Pinhole& k = sim.scene().cameras[0].p_c;
   const core::Pose& P = sim.scene().cameras[0].T_world_cam;
   const double u0 = k.project(P.to_camera({-0.3, 0.36, 1.3})).x();
   const double u7 = k.project(P.to_camera({0.1, 0.19, 1.3 + 0.2 * 2 / 3.0})).x();

@@ -79,13 +79,13 @@ class DefaultSceneModel : public ::testing::Test {
   // pipelines hand frames to the updater (no lens distortion in this scene: nothing to undo).
   int64_t publish_frames(uint64_t sequence) {
     int64_t t = 0;
-    for (std::size_t i = 0; i < parts_->pipelines.size(); ++i) {
-      const std::string id = parts_->camera_names[i];
+    for (const StationCamera& cam : parts_->cameras) {
+      const std::string& id = cam.name;
       std::size_t sim_index = 0;
       while (sim_index < scene_.cameras.size() && "sim:" + scene_.cameras[sim_index].name != id)
         ++sim_index;
       EXPECT_LT(sim_index, scene_.cameras.size()) << id;
-      auto& mailbox = parts_->pipelines[i]->model_frames();
+      auto& mailbox = cam.pipeline->model_frames();
       parts_->simulation->render_frame(sim_index, sequence, mailbox.write_slot());
       t = mailbox.write_slot().host_timestamp_ns;
       mailbox.publish();
@@ -95,9 +95,9 @@ class DefaultSceneModel : public ::testing::Test {
 
   std::vector<ModelCamera> model_cameras() {
     std::vector<ModelCamera> mc;
-    for (std::size_t i = 0; i < parts_->pipelines.size(); ++i)
-      mc.push_back({&parts_->pipelines[i]->model_frames(), parts_->cameras[i].p_c,
-                    parts_->cameras[i].T_world_real});
+    for (const StationCamera& cam : parts_->cameras)
+      mc.push_back(
+          {&cam.pipeline->model_frames(), cam.calibrated.p_c, cam.calibrated.T_world_real});
     return mc;
   }
 
@@ -108,7 +108,7 @@ class DefaultSceneModel : public ::testing::Test {
   };
   std::vector<Vertex> reconstructed(const ModelSnapshot& s) {
     std::vector<Vertex> v;
-    const core::Pose& P = parts_->cameras[0].T_world_real;
+    const core::Pose& P = parts_->cameras[0].calibrated.T_world_real;
     for (std::size_t m = s.prior_meshes; m < s.scene.meshes.size(); ++m)
       for (const auto& p : s.scene.meshes[m].positions_m) {
         const Eigen::Vector3d X = p.cast<double>();
