@@ -11,6 +11,7 @@
 #include "drivers/convert/bayer_to_rgba.h"
 #include "drivers/convert/mono8_to_rgba.h"
 #include "drivers/convert/rgb8_to_rgba.h"
+#include "drivers/gige/arv_pixel_format.h"
 #include "drivers/gige/gige_prober.h"
 #include "drivers/gige/gvcp_liveness_probe.h"
 
@@ -20,44 +21,6 @@ namespace {
 
 constexpr int64_t kPopTimeoutUs = 20'000;  // bounds how late stop() and stall checks react
 constexpr int64_t kReconnectPeriodNs = 500'000'000;  // how often a lost camera is looked for
-
-bool arv_format_for(PixelFormat f, ArvPixelFormat& out) {
-  switch (f) {
-    case PixelFormat::kMono8:
-      out = ARV_PIXEL_FORMAT_MONO_8;
-      return true;
-    case PixelFormat::kRgb8:
-      out = ARV_PIXEL_FORMAT_RGB_8_PACKED;
-      return true;
-    case PixelFormat::kBayerRggb8:
-      out = ARV_PIXEL_FORMAT_BAYER_RG_8;
-      return true;
-    case PixelFormat::kBayerGrbg8:
-      out = ARV_PIXEL_FORMAT_BAYER_GR_8;
-      return true;
-    case PixelFormat::kBayerGbrg8:
-      out = ARV_PIXEL_FORMAT_BAYER_GB_8;
-      return true;
-    case PixelFormat::kBayerBggr8:
-      out = ARV_PIXEL_FORMAT_BAYER_BG_8;
-      return true;
-    default:
-      return false;
-  }
-}
-
-bool pixel_format_of(ArvPixelFormat arv, PixelFormat& out) {
-  for (PixelFormat f :
-       {PixelFormat::kMono8, PixelFormat::kRgb8, PixelFormat::kBayerRggb8, PixelFormat::kBayerGrbg8,
-        PixelFormat::kBayerGbrg8, PixelFormat::kBayerBggr8}) {
-    ArvPixelFormat a = 0;
-    if (arv_format_for(f, a) && a == arv) {
-      out = f;
-      return true;
-    }
-  }
-  return false;
-}
 
 int64_t clock_ns(clockid_t id) {
   timespec ts{};
