@@ -379,9 +379,7 @@ void GigeCamera::start() {
   if (!camera_) open();
   if (running_.load()) return;
   GErrorHolder error;
-  unwrapper_.reset();
-  got_first_frame_ = false;
-  rebase_sequence_ = last_sequence_ != 0;  // a restart must not move the sequence backwards
+  accounting_.start();
   arv_camera_start_acquisition(camera_.get(), error.out());
   if (error) {
     throw DeviceError("GigE camera '" + config_.device_id +
@@ -435,7 +433,7 @@ void GigeCamera::release_live() {
 }
 
 bool GigeCamera::reconnect() {
-  reopen_attempts_.fetch_add(1, std::memory_order_relaxed);
+  GigeCounters::bump(counters_.reopen_attempts);
   retire();
   DeviceAnswer a;
   try {
@@ -464,12 +462,10 @@ bool GigeCamera::reconnect() {
     retire();
     return false;
   }
-  unwrapper_.reset();
-  got_first_frame_ = false;
-  rebase_sequence_ = true;  // the camera's ids restarted; the consumer's sequence must not
+  accounting_.reconnected();
   clock_mapper_ = DeviceClockMapper(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000});
   last_frame_ns_ = now_ns;
-  reconnects_.fetch_add(1, std::memory_order_relaxed);
+  GigeCounters::bump(counters_.reconnects);
   leave_mismatch(FormatEventCause::kReconnect, now_ns);
   state_.store(SourceState::kStreaming, std::memory_order_release);
   return true;
@@ -486,23 +482,11 @@ void GigeCamera::leave_mismatch(FormatEventCause cause, int64_t now_ns) {
 }
 
 uint64_t GigeCamera::dropped_frames() const {
-  return bad_buffers_.load(std::memory_order_relaxed) + id_gaps_.load(std::memory_order_relaxed);
+  return counters_.dropped();
 }
 
 GigeStats GigeCamera::stats() const {
-  GigeStats s;
-  s.frames_published = frames_published_.load(std::memory_order_relaxed);
-  s.bad_buffers = bad_buffers_.load(std::memory_order_relaxed);
-  s.id_gaps = id_gaps_.load(std::memory_order_relaxed);
-  s.late_or_duplicate = late_.load(std::memory_order_relaxed);
-  s.malformed = malformed_.load(std::memory_order_relaxed);
-  s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
-  s.liveness_probes = probes_.load(std::memory_order_relaxed);
-  s.last_bad_status = last_bad_status_.load(std::memory_order_relaxed);
-  s.reconnects = reconnects_.load(std::memory_order_relaxed);
-  s.reopen_attempts = reopen_attempts_.load(std::memory_order_relaxed);
-  s.bad_before_first_frame = bad_before_first_.load(std::memory_order_relaxed);
-  return s;
+  return counters_.snapshot();
 }
 
 void GigeCamera::stream_loop() {
@@ -555,7 +539,7 @@ void GigeCamera::stream_loop() {
     // Probe at most once per stall timeout: a live camera that merely paused stays "stalled".
     if (now_ns - last_probe_ns_ < config_.stall_timeout_ns) continue;
     last_probe_ns_ = now_ns;
-    probes_.fetch_add(1, std::memory_order_relaxed);
+    GigeCounters::bump(counters_.liveness_probes);
     if (address_.empty()) continue;
     const auto answer = probe.ping(config_.liveness_timeout_ns);
     if (answer == GvcpLivenessProbe::Answer::kRefused ||
@@ -569,30 +553,23 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
   const ArvBufferStatus status = arv_buffer_get_status(buffer);
   if (status == ARV_BUFFER_STATUS_SIZE_MISMATCH) {
     // A frame larger than the negotiated payload: the camera's format changed under us.
-    unwrapper_.update(arv_buffer_get_frame_id(buffer));
-    wrong_format_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.wrong_format(arv_buffer_get_frame_id(buffer));
     enter_mismatch(FormatEventCause::kFrame, CameraFormat{}, popped_ns);
     return;
   }
   if (status != ARV_BUFFER_STATUS_SUCCESS) {
-    // The frame is lost, but its id is known: feed it, so the next frame shows no gap and the
-    // loss is counted once.
-    unwrapper_.update(arv_buffer_get_frame_id(buffer));
-    bad_buffers_.fetch_add(1, std::memory_order_relaxed);
-    if (!got_first_frame_) bad_before_first_.fetch_add(1, std::memory_order_relaxed);
-    last_bad_status_.store(static_cast<int>(status), std::memory_order_relaxed);
+    accounting_.lost(arv_buffer_get_frame_id(buffer), static_cast<int>(status));
     return;
   }
   if (arv_buffer_get_payload_type(buffer) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE) {
-    malformed_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.malformed();
     return;
   }
   const int buffer_w = arv_buffer_get_image_width(buffer);
   const int buffer_h = arv_buffer_get_image_height(buffer);
   const ArvPixelFormat buffer_format = arv_buffer_get_image_pixel_format(buffer);
   if (buffer_w != width_px_ || buffer_h != height_px_ || buffer_format != arv_format_) {
-    unwrapper_.update(arv_buffer_get_frame_id(buffer));
-    wrong_format_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.wrong_format(arv_buffer_get_frame_id(buffer));
     CameraFormat seen{buffer_w, buffer_h, pixel_format_, frame_rate_hz_};
     if (buffer_format != arv_format_ && !pixel_format_of(buffer_format, seen.pixel_format))
       seen.pixel_format = PixelFormat::kRgba8;  // none GigE sends: "another one"
@@ -602,16 +579,12 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
   std::size_t size = 0;
   const auto* data = static_cast<const uint8_t*>(arv_buffer_get_image_data(buffer, &size));
   if (data == nullptr) {
-    malformed_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.malformed();
     return;
   }
-  const auto id = unwrapper_.update(arv_buffer_get_frame_id(buffer));
-  if (id.verdict != FrameIdUnwrapper::Verdict::kNext) {
-    (id.verdict == FrameIdUnwrapper::Verdict::kInvalid ? malformed_ : late_)
-        .fetch_add(1, std::memory_order_relaxed);
-    return;
-  }
-  id_gaps_.fetch_add(id.gap, std::memory_order_relaxed);
+  const std::optional<uint64_t> camera_sequence =
+      accounting_.admit(arv_buffer_get_frame_id(buffer));
+  if (!camera_sequence) return;
 
   // Aravis stamps arrival on the realtime clock; move it onto CLOCK_MONOTONIC.
   const uint64_t system_ns = arv_buffer_get_system_timestamp(buffer);
@@ -639,7 +612,7 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
       break;
   }
   if (!ok) {
-    malformed_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.malformed();
     return;
   }
   const uint64_t device_ns = arv_buffer_get_timestamp(buffer);
@@ -653,18 +626,12 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
     leave_mismatch(FormatEventCause::kFrame, popped_ns);
     state_.store(SourceState::kStreaming);
   }
-  got_first_frame_ = true;
-  if (rebase_sequence_) {
-    // Unsigned wrap-around arithmetic: the first frame after a reconnect follows the last one.
-    sequence_offset_ = last_sequence_ + 1 - id.sequence;
-    rebase_sequence_ = false;
-  }
-  f.sequence = id.sequence + sequence_offset_;
-  last_sequence_ = f.sequence;
+  f.sequence = accounting_.sequence_for(*camera_sequence);
   mailbox_->publish();
   const int64_t published_ns = monotonic_now_ns();
-  frames_published_.fetch_add(1, std::memory_order_relaxed);
-  timings_.push(GigeHandoffTiming{last_sequence_, arrival_ns, popped_ns, published_ns});
+  accounting_.published();
+  timings_.push(
+      GigeHandoffTiming{accounting_.last_sequence(), arrival_ns, popped_ns, published_ns});
 }
 
 }  // namespace hd::drivers

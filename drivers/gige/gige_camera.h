@@ -13,40 +13,13 @@
 #include "drivers/camera_source.h"
 #include "drivers/clock/device_clock_mapper.h"
 #include "drivers/format_watch.h"
-#include "drivers/gige/frame_id_unwrapper.h"
+#include "drivers/gige/frame_accounting.h"
 #include "drivers/gige/gige_config.h"
+#include "drivers/gige/gige_stats.h"
 #include "drivers/gige/gobject_ptr.h"
 #include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
-
-/// When one frame crossed each stage, for latency measurement (CLOCK_MONOTONIC ns).
-struct GigeHandoffTiming {
-  uint64_t sequence = 0;
-  int64_t arrival_ns = 0;    ///< the frame's leader packet landed (Aravis buffer system time)
-  int64_t popped_ns = 0;     ///< our stream thread took it from Aravis's output queue
-  int64_t published_ns = 0;  ///< converted and published into the mailbox
-};
-
-/// Counters since start(); read from any thread.
-struct GigeStats {
-  uint64_t frames_published = 0;
-  uint64_t bad_buffers = 0;        ///< ARV_BUFFER_STATUS != SUCCESS (missing packets, timeout...)
-  uint64_t id_gaps = 0;            ///< frames missing from the block-id sequence
-  uint64_t late_or_duplicate = 0;  ///< ids at or before the newest one, skipped
-  uint64_t malformed = 0;          ///< not an image payload, or unconvertible, skipped
-  /// Frames of another size or pixel format than negotiated (ARV_BUFFER_STATUS_SIZE_MISMATCH
-  /// included): never published; the first of a run of them is a FormatEvent.
-  uint64_t wrong_format = 0;
-  uint64_t liveness_probes = 0;
-  int last_bad_status = 0;  ///< ArvBufferStatus of the newest bad buffer (0 = none yet)
-  uint64_t reconnects = 0;  ///< times a lost camera answered again and streams anew
-  /// Times a lost or mismatched camera that answered was opened again (successful or not).
-  uint64_t reopen_attempts = 0;
-  /// Of bad_buffers, those before the first good frame of a start or reconnect (a stream that
-  /// began mid-frame, or a first frame Aravis timed out while the host was busy starting).
-  uint64_t bad_before_first_frame = 0;
-};
 
 /// Streams one GigE camera: open() negotiates region, pixel format, frame rate and packet size
 /// and sizes the mailbox; start() starts acquisition and a thread that pops Aravis buffers,
@@ -152,28 +125,14 @@ class GigeCamera final : public CameraSource {
   std::atomic<bool> control_lost_{false};
   std::atomic<SourceState> state_{SourceState::kClosed};
 
+  GigeCounters counters_;  // the stream thread adds, stats() reads from any thread
   // Owned by the stream thread while it runs.
-  FrameIdUnwrapper unwrapper_;
+  FrameAccounting accounting_{counters_};
   DeviceClockMapper clock_mapper_;
   int64_t last_frame_ns_ = 0;
   int64_t last_probe_ns_ = 0;
-  bool rebase_sequence_ = false;
   int64_t mismatch_since_ns_ = 0;
-  uint64_t sequence_offset_ = 0;
-  uint64_t last_sequence_ = 0;
 
-  std::atomic<uint64_t> frames_published_{0};
-  std::atomic<uint64_t> bad_buffers_{0};
-  std::atomic<uint64_t> id_gaps_{0};
-  std::atomic<uint64_t> late_{0};
-  std::atomic<uint64_t> malformed_{0};
-  std::atomic<uint64_t> wrong_format_{0};
-  std::atomic<uint64_t> probes_{0};
-  std::atomic<int> last_bad_status_{0};
-  std::atomic<uint64_t> reconnects_{0};
-  std::atomic<uint64_t> reopen_attempts_{0};
-  std::atomic<uint64_t> bad_before_first_{0};
-  bool got_first_frame_ = false;
   SpscRing<GigeHandoffTiming, 1024> timings_;
   FormatWatch format_watch_;  // capture thread; the station pops its events
 };
