@@ -22,6 +22,11 @@ namespace {
 constexpr int64_t kPopTimeoutUs = 20'000;  // bounds how late stop() and stall checks react
 constexpr int64_t kReconnectPeriodNs = 500'000'000;  // how often a lost camera is looked for
 
+// Aravis reports device timestamps already scaled to ns on a 64-bit counter.
+DeviceClockMapper new_clock_mapper() {
+  return DeviceClockMapper(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000});
+}
+
 int64_t clock_ns(clockid_t id) {
   timespec ts{};
   clock_gettime(id, &ts);
@@ -54,8 +59,8 @@ struct GigeCamera::DeviceAnswer {
 GigeCamera::GigeCamera(GigeConfig config)
     : config_(std::move(config)),
       mailbox_(std::make_unique<Mailbox<Frame>>()),
-      // Aravis reports device timestamps already scaled to ns on a 64-bit counter.
-      clock_mapper_(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000}) {}
+      watchdog_(StreamWatchdog::Config{config_.stall_timeout_ns, kReconnectPeriodNs}),
+      clock_mapper_(new_clock_mapper()) {}
 
 GigeCamera::~GigeCamera() {
   stop();
@@ -385,8 +390,7 @@ void GigeCamera::start() {
     throw DeviceError("GigE camera '" + config_.device_id +
                       "': starting acquisition: " + error.message());
   }
-  last_frame_ns_ = monotonic_now_ns();
-  last_probe_ns_ = 0;
+  watchdog_.restart(monotonic_now_ns());
   state_.store(SourceState::kStreaming, std::memory_order_release);
   running_.store(true, std::memory_order_release);
   thread_ = std::thread([this] { stream_loop(); });
@@ -463,8 +467,8 @@ bool GigeCamera::reconnect() {
     return false;
   }
   accounting_.reconnected();
-  clock_mapper_ = DeviceClockMapper(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000});
-  last_frame_ns_ = now_ns;
+  clock_mapper_ = new_clock_mapper();
+  watchdog_.frame_at(now_ns);
   GigeCounters::bump(counters_.reconnects);
   leave_mismatch(FormatEventCause::kReconnect, now_ns);
   state_.store(SourceState::kStreaming, std::memory_order_release);
@@ -474,7 +478,7 @@ bool GigeCamera::reconnect() {
 void GigeCamera::enter_mismatch(FormatEventCause cause, const CameraFormat& seen, int64_t now_ns) {
   // State first: a consumer that sees the event must also see the camera as unusable.
   state_.store(SourceState::kFormatMismatch, std::memory_order_release);
-  if (format_watch_.lost(now_ns, cause, format_, seen)) mismatch_since_ns_ = now_ns;
+  if (format_watch_.lost(now_ns, cause, format_, seen)) watchdog_.mismatch_at(now_ns);
 }
 
 void GigeCamera::leave_mismatch(FormatEventCause cause, int64_t now_ns) {
@@ -504,47 +508,43 @@ void GigeCamera::stream_loop() {
       handle_buffer(buffer, now_ns);
       arv_stream_push_buffer(stream_.get(), buffer);  // back into the pool at once
     }
-    const SourceState s = state();
-    if (s == SourceState::kDisconnected || (s == SourceState::kFormatMismatch && !stream_)) {
-      // Reopen when the camera answers again (it was power-cycled, replugged or restarted), or
-      // try again whether one that answered with other settings now takes ours.
-      if (now_ns - last_probe_ns_ >= kReconnectPeriodNs) {
-        last_probe_ns_ = now_ns;
-        const auto answer = probe.ping(config_.liveness_timeout_ns);
-        if (answer == GvcpLivenessProbe::Answer::kAlive) {
-          reconnect();
-        } else if (s == SourceState::kFormatMismatch) {
-          state_.store(SourceState::kDisconnected, std::memory_order_release);
-        }
-      }
-      continue;
-    }
-    if (control_lost_.load(std::memory_order_acquire)) {
-      state_.store(SourceState::kDisconnected, std::memory_order_release);
-      continue;
-    }
-    if (s == SourceState::kFormatMismatch) {
-      // Streaming frames of another format (someone else reconfigured it, or it changed by
-      // itself): put our configuration back now and then, until the format is right again.
-      if (now_ns - mismatch_since_ns_ >= kReconnectPeriodNs &&
-          now_ns - last_probe_ns_ >= kReconnectPeriodNs) {
-        last_probe_ns_ = now_ns;
-        release_live();
+    look_after_camera(now_ns, probe);
+  }
+}
+
+void GigeCamera::look_after_camera(int64_t now_ns, GvcpLivenessProbe& probe) {
+  const SourceState s = state();
+  using Step = StreamWatchdog::Step;
+  switch (watchdog_.next(now_ns, s, !stream_, control_lost_.load(std::memory_order_acquire))) {
+    case Step::kNone:
+      return;
+    case Step::kProbeToReopen:
+      if (probe.ping(config_.liveness_timeout_ns) == GvcpLivenessProbe::Answer::kAlive) {
         reconnect();
+      } else if (s == SourceState::kFormatMismatch) {
+        state_.store(SourceState::kDisconnected, std::memory_order_release);
       }
-      continue;
-    }
-    if (now_ns - last_frame_ns_ <= config_.stall_timeout_ns) continue;
-    state_.store(SourceState::kStalled, std::memory_order_release);
-    // Probe at most once per stall timeout: a live camera that merely paused stays "stalled".
-    if (now_ns - last_probe_ns_ < config_.stall_timeout_ns) continue;
-    last_probe_ns_ = now_ns;
-    GigeCounters::bump(counters_.liveness_probes);
-    if (address_.empty()) continue;
-    const auto answer = probe.ping(config_.liveness_timeout_ns);
-    if (answer == GvcpLivenessProbe::Answer::kRefused ||
-        answer == GvcpLivenessProbe::Answer::kTimeout) {
+      return;
+    case Step::kControlLost:
       state_.store(SourceState::kDisconnected, std::memory_order_release);
+      return;
+    case Step::kRestoreFormat:
+      release_live();
+      reconnect();
+      return;
+    case Step::kStalled:
+      state_.store(SourceState::kStalled, std::memory_order_release);
+      return;
+    case Step::kStalledProbe: {
+      state_.store(SourceState::kStalled, std::memory_order_release);
+      GigeCounters::bump(counters_.liveness_probes);
+      if (address_.empty()) return;
+      const auto answer = probe.ping(config_.liveness_timeout_ns);
+      if (answer == GvcpLivenessProbe::Answer::kRefused ||
+          answer == GvcpLivenessProbe::Answer::kTimeout) {
+        state_.store(SourceState::kDisconnected, std::memory_order_release);
+      }
+      return;
     }
   }
 }
@@ -621,7 +621,7 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
   f.host_timestamp_ns =
       f.device_time_trusted ? clock_mapper_.map(device_ns, arrival_ns) : arrival_ns;
   // State first: a consumer that sees the new frame must also see the stream as live.
-  last_frame_ns_ = popped_ns;
+  watchdog_.frame_at(popped_ns);
   if (state() == SourceState::kStalled || state() == SourceState::kFormatMismatch) {
     leave_mismatch(FormatEventCause::kFrame, popped_ns);
     state_.store(SourceState::kStreaming);

@@ -17,9 +17,12 @@
 #include "drivers/gige/gige_config.h"
 #include "drivers/gige/gige_stats.h"
 #include "drivers/gige/gobject_ptr.h"
+#include "drivers/gige/stream_watchdog.h"
 #include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
+
+class GvcpLivenessProbe;
 
 /// Streams one GigE camera: open() negotiates region, pixel format, frame rate and packet size
 /// and sizes the mailbox; start() starts acquisition and a thread that pops Aravis buffers,
@@ -94,7 +97,7 @@ class GigeCamera final : public CameraSource {
   void leave_mismatch(FormatEventCause cause, int64_t now_ns);
   void stream_loop();
   void handle_buffer(ArvBuffer* buffer, int64_t popped_ns);
-  void check_liveness(int64_t now_ns);
+  void look_after_camera(int64_t now_ns, GvcpLivenessProbe& probe);
   static void on_control_lost(ArvDevice* device, gpointer self);
 
   GigeConfig config_;
@@ -128,10 +131,8 @@ class GigeCamera final : public CameraSource {
   GigeCounters counters_;  // the stream thread adds, stats() reads from any thread
   // Owned by the stream thread while it runs.
   FrameAccounting accounting_{counters_};
+  StreamWatchdog watchdog_;
   DeviceClockMapper clock_mapper_;
-  int64_t last_frame_ns_ = 0;
-  int64_t last_probe_ns_ = 0;
-  int64_t mismatch_since_ns_ = 0;
 
   SpscRing<GigeHandoffTiming, 1024> timings_;
   FormatWatch format_watch_;  // capture thread; the station pops its events
