@@ -3,7 +3,6 @@
 #include <time.h>
 
 #include <algorithm>
-#include <cmath>
 #include <string_view>
 #include <thread>
 
@@ -14,6 +13,7 @@
 #include "drivers/gige/arv_pixel_format.h"
 #include "drivers/gige/gige_prober.h"
 #include "drivers/gige/gvcp_liveness_probe.h"
+#include "drivers/gige/stream_sizing.h"
 
 namespace hd::drivers {
 
@@ -293,22 +293,12 @@ void GigeCamera::open_stream() {
     fail("creating the stream");
   }
   const double rate = frame_rate_hz_ > 0.0 ? frame_rate_hz_ : 60.0;
-  const auto frames_100ms = static_cast<std::size_t>(std::ceil(rate * 0.1));
-  socket_buffer_bytes_ =
-      config_.socket_buffer_bytes > 0
-          ? config_.socket_buffer_bytes
-          : static_cast<int>(std::min<std::size_t>(
-                payload_bytes_ * std::max<std::size_t>(4, frames_100ms), 64u << 20));
-  g_object_set(
-      stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED, "socket-buffer-size",
-      socket_buffer_bytes_, "packet-resend", ARV_GV_STREAM_PACKET_RESEND_ALWAYS, "frame-retention",
-      static_cast<guint>(std::clamp<int64_t>(config_.frame_retention_ns / 1000, 1000, 10'000'000)),
-      nullptr);
-  buffer_count_ = config_.buffer_count;
-  if (buffer_count_ == 0) {
-    const double in_flight = rate * static_cast<double>(config_.frame_retention_ns) * 1e-9;
-    buffer_count_ = std::max(8, static_cast<int>(std::ceil(in_flight)) + 4);
-  }
+  socket_buffer_bytes_ = socket_buffer_bytes_for(config_.socket_buffer_bytes, payload_bytes_, rate);
+  g_object_set(stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED,
+               "socket-buffer-size", socket_buffer_bytes_, "packet-resend",
+               ARV_GV_STREAM_PACKET_RESEND_ALWAYS, "frame-retention",
+               static_cast<guint>(frame_retention_us_for(config_.frame_retention_ns)), nullptr);
+  buffer_count_ = buffer_count_for(config_.buffer_count, rate, config_.frame_retention_ns);
   for (int i = 0; i < buffer_count_; ++i) {
     arv_stream_push_buffer(stream_.get(), arv_buffer_new(payload_bytes_, nullptr));
   }
