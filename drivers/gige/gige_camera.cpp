@@ -1,3 +1,4 @@
+// GigeCamera: one GigE Vision camera's lifecycle (open, negotiate, stream, reconnect) on Aravis.
 #include "drivers/gige/gige_camera.h"
 
 #include <time.h>
@@ -48,14 +49,6 @@ std::string ipv4_of(ArvCamera* camera) {
 
 }  // namespace
 
-// What open_device() found: the camera's answer to the configuration.
-struct GigeCamera::DeviceAnswer {
-  CameraFormat format;
-  std::string refused;  // what the camera did not take, and why
-  std::string limits;   // the sizes it can deliver
-  std::string detail;   // region offset and binning as read back
-};
-
 GigeCamera::GigeCamera(GigeConfig config)
     : config_(std::move(config)),
       mailbox_(std::make_unique<Mailbox<Frame>>()),
@@ -67,7 +60,7 @@ GigeCamera::~GigeCamera() {
   close();
 }
 
-GigeCamera::DeviceAnswer GigeCamera::open_device() {
+GigeFeatureAnswer GigeCamera::open_device() {
   const std::string& id = config_.device_id;
   // Once negotiated, a reopen asks for that format only: the mailbox and the converter are set
   // up for it.
@@ -75,15 +68,10 @@ GigeCamera::DeviceAnswer GigeCamera::open_device() {
       format_.known()               ? std::vector<PixelFormat>{format_.pixel_format}
       : acceptable_formats_.empty() ? std::vector<PixelFormat>{config_.pixel_format}
                                     : acceptable_formats_;
-  {
-    ArvPixelFormat unused = 0;
-    bool any = false;
-    for (PixelFormat f : candidates) any = any || arv_format_for(f, unused);
-    if (!any) {
-      throw DeviceError("GigE camera '" + id + "': pixel format " +
-                        std::string(to_string(candidates.front())) +
-                        " is not supported (expected Mono8, RGB8, BayerRG8/GR8/GB8/BG8)");
-    }
+  if (std::none_of(candidates.begin(), candidates.end(), gige_converts)) {
+    throw DeviceError("GigE camera '" + id + "': pixel format " +
+                      std::string(to_string(candidates.front())) +
+                      " is not supported (expected Mono8, RGB8, BayerRG8/GR8/GB8/BG8)");
   }
   if (config_.buffer_count < 0 || config_.buffer_count == 1) {
     throw DeviceError("GigE camera '" + id + "': buffer_count must be 0 (auto) or >= 2, got " +
@@ -103,153 +91,23 @@ GigeCamera::DeviceAnswer GigeCamera::open_device() {
     camera_.reset();
     throw DeviceError("device '" + id + "' is not a GigE Vision camera");
   }
-  const auto fail = [&](std::string_view what) {
-    std::string msg = "GigE camera '" + id + "': " + std::string(what) + ": " + error.message();
-    camera_.reset();
-    throw DeviceError(msg);
-  };
-  ArvCamera* cam = camera_.get();
   // Aravis writes out-of-range values by default; a camera that silently clamps or ignores them
   // would then deliver something else than asked. With the check on, Aravis refuses them.
-  arv_camera_set_range_check_policy(cam, ARV_RANGE_CHECK_POLICY_ENABLE);
-  address_ = ipv4_of(cam);
-  DeviceAnswer a;
-  const auto refuse = [&a](const std::string& what) {
-    a.refused += (a.refused.empty() ? "" : "; ") + what;
-  };
-
-  // Pixel format: the first acceptable one the camera offers and takes.
-  guint n_offered = 0;
-  gint64* offered = arv_camera_dup_available_pixel_formats(cam, &n_offered, error.out());
-  error.clear();
-  bool format_set = false;
-  std::string format_why;
-  for (PixelFormat f : candidates) {
-    ArvPixelFormat arv = 0;
-    if (!arv_format_for(f, arv)) continue;
-    if (offered != nullptr &&
-        std::find(offered, offered + n_offered, gint64{arv}) == offered + n_offered) {
-      format_why += " " + std::string(to_string(f)) + " (not offered)";
-      continue;
-    }
-    arv_camera_set_pixel_format(cam, arv, error.out());
-    const bool took = !error && arv_camera_get_pixel_format(cam, error.out()) == arv && !error;
-    if (took) {
-      arv_format_ = arv;
-      pixel_format_ = f;
-      format_set = true;
-      break;
-    }
-    format_why += " " + std::string(to_string(f)) + " (" + error.message() + ")";
-  }
-  g_free(offered);
-  if (!format_set) {
+  arv_camera_set_range_check_policy(camera_.get(), ARV_RANGE_CHECK_POLICY_ENABLE);
+  address_ = ipv4_of(camera_.get());
+  GigeFeatureAnswer a;
+  try {
+    a = configure_gige_features(camera_.get(), config_, candidates);
+  } catch (const DeviceError&) {
     camera_.reset();
-    throw DeviceError("GigE camera '" + id +
-                      "': takes none of the pixel formats asked for:" + format_why);
+    throw;
   }
-
-  // Binning first: the region's sizes are binned pixels.
-  if (config_.binning_x > 0 || config_.binning_y > 0) {
-    const gboolean has_binning = arv_camera_is_binning_available(cam, error.out());
-    if (error || !has_binning) {
-      if (config_.binning_x > 1 || config_.binning_y > 1)
-        refuse("binning " + std::to_string(config_.binning_x) + "x" +
-               std::to_string(config_.binning_y) + ": the camera has no binning");
-    } else {
-      arv_camera_set_binning(cam, config_.binning_x > 0 ? config_.binning_x : -1,
-                             config_.binning_y > 0 ? config_.binning_y : -1, error.out());
-      if (error) refuse("binning: " + std::string(error.message()));
-    }
-  }
-  binning_x_ = binning_y_ = 1;
-  if (arv_camera_is_binning_available(cam, error.out()) && !error) {
-    gint bx = 1, by = 1;
-    arv_camera_get_binning(cam, &bx, &by, error.out());
-    if (!error) {
-      binning_x_ = bx;
-      binning_y_ = by;
-    }
-  }
-
-  gint x = 0, y = 0, w = 0, h = 0;
-  arv_camera_get_region(cam, &x, &y, &w, &h, error.out());
-  if (error) fail("reading region of interest");
-  gint w_min = 0, w_max = 0, h_min = 0, h_max = 0;
-  arv_camera_get_width_bounds(cam, &w_min, &w_max, error.out());
-  if (!error) arv_camera_get_height_bounds(cam, &h_min, &h_max, error.out());
-  const bool have_bounds = !error && w_max > 0 && h_max > 0;
-  gint w_inc = arv_camera_get_width_increment(cam, error.out());
-  if (error || w_inc < 1) w_inc = 1;
-  gint h_inc = arv_camera_get_height_increment(cam, error.out());
-  if (error || h_inc < 1) h_inc = 1;
-  error.clear();
-  if (have_bounds) {
-    a.limits = std::to_string(w_min) + ".." + std::to_string(w_max) + " x " +
-               std::to_string(h_min) + ".." + std::to_string(h_max) + " px";
-    if (w_inc > 1 || h_inc > 1)
-      a.limits += " in steps of " + std::to_string(w_inc) + "x" + std::to_string(h_inc);
-  }
-  const GigeRoi& roi = config_.roi;
-  if (roi.width_px > 0 && roi.height_px > 0) {
-    gint sensor_w = 0, sensor_h = 0;
-    arv_camera_get_sensor_size(cam, &sensor_w, &sensor_h, error.out());
-    error.clear();
-    const auto keep = [](int wanted, int current, int size, int sensor) {
-      if (wanted >= 0) return wanted;
-      return sensor <= 0 || current + size <= sensor ? current : 0;
-    };
-    const int want_x = keep(roi.x_px, x, roi.width_px, sensor_w);
-    const int want_y = keep(roi.y_px, y, roi.height_px, sensor_h);
-    if (w != roi.width_px || h != roi.height_px || x != want_x || y != want_y) {
-      const auto check = [](const char* name, int v, int lo, int hi, int inc) -> std::string {
-        if (v < lo || v > hi)
-          return std::string(name) + " " + std::to_string(v) + " is outside the camera's " +
-                 std::to_string(lo) + ".." + std::to_string(hi);
-        if ((v - lo) % inc != 0)
-          return std::string(name) + " " + std::to_string(v) + " is not " + std::to_string(lo) +
-                 " + a multiple of " + std::to_string(inc);
-        return {};
-      };
-      std::string why;
-      if (have_bounds) {
-        why = check("Width", roi.width_px, w_min, w_max, w_inc);
-        const std::string hy = check("Height", roi.height_px, h_min, h_max, h_inc);
-        why += (why.empty() || hy.empty() ? "" : ", ") + hy;
-      }
-      if (why.empty()) {
-        arv_camera_set_region(cam, want_x, want_y, roi.width_px, roi.height_px, error.out());
-        if (error) why = error.message();
-      }
-      if (!why.empty())
-        refuse("region " + size_text(roi.width_px, roi.height_px) + " at (" +
-               std::to_string(want_x) + ", " + std::to_string(want_y) + "): " + why);
-      arv_camera_get_region(cam, &x, &y, &w, &h, error.out());
-      if (error) fail("reading region of interest");
-    }
-  }
-  if (w <= 0 || h <= 0 || w > 65535 || h > 65535) {
-    camera_.reset();
-    throw DeviceError("GigE camera '" + id + "' reports an invalid image size " +
-                      std::to_string(w) + "x" + std::to_string(h));
-  }
-  if ((pixel_format_ != PixelFormat::kMono8 && pixel_format_ != PixelFormat::kRgb8) &&
-      (w < 2 || h < 2)) {
-    camera_.reset();
-    throw DeviceError("GigE camera '" + id + "': a Bayer image needs at least 2x2 pixels");
-  }
-  offset_x_px_ = x;
-  offset_y_px_ = y;
-  a.detail = "region at (" + std::to_string(x) + ", " + std::to_string(y) + "), binning " +
-             std::to_string(binning_x_) + "x" + std::to_string(binning_y_);
-
-  if (config_.frame_rate_hz > 0.0) {
-    arv_camera_set_frame_rate(cam, config_.frame_rate_hz, error.out());
-    if (error) fail("setting frame rate " + std::to_string(config_.frame_rate_hz) + " Hz");
-  }
-  const double rate = arv_camera_get_frame_rate(cam, error.out());
-  if (error) fail("reading frame rate");
-  a.format = CameraFormat{w, h, pixel_format_, rate};
+  arv_format_ = a.arv_format;
+  pixel_format_ = a.format.pixel_format;
+  binning_x_ = a.binning_x;
+  binning_y_ = a.binning_y;
+  offset_x_px_ = a.offset_x_px;
+  offset_y_px_ = a.offset_y_px;
   return a;
 }
 
@@ -309,7 +167,7 @@ void GigeCamera::open_stream() {
 
 void GigeCamera::open() {
   if (camera_) return;
-  const DeviceAnswer a = open_device();
+  const GigeFeatureAnswer a = open_device();
   const GigeRoi& roi = config_.roi;
   if (roi.width_px > 0 && roi.height_px > 0 &&
       (a.format.width_px != roi.width_px || a.format.height_px != roi.height_px)) {
@@ -331,8 +189,7 @@ FormatNegotiation GigeCamera::negotiate(const CameraFormatRequest& wanted) {
   }
   acceptable_formats_.clear();
   for (PixelFormat f : wanted.pixel_formats) {
-    ArvPixelFormat unused = 0;
-    if (arv_format_for(f, unused)) acceptable_formats_.push_back(f);
+    if (gige_converts(f)) acceptable_formats_.push_back(f);
   }
   if (!wanted.pixel_formats.empty() && acceptable_formats_.empty()) {
     std::string asked;
@@ -343,7 +200,7 @@ FormatNegotiation GigeCamera::negotiate(const CameraFormatRequest& wanted) {
   if (wanted.frame_rate_hz > 0.0) config_.frame_rate_hz = wanted.frame_rate_hz;
   close();  // opened before: release it, the request replaces its configuration
   format_ = CameraFormat{};
-  const DeviceAnswer a = open_device();
+  const GigeFeatureAnswer a = open_device();
   adopt(a.format);
   return {a.format, a.refused, a.limits, a.detail};
 }
@@ -429,7 +286,7 @@ void GigeCamera::release_live() {
 bool GigeCamera::reconnect() {
   GigeCounters::bump(counters_.reopen_attempts);
   retire();
-  DeviceAnswer a;
+  GigeFeatureAnswer a;
   try {
     a = open_device();
   } catch (const DeviceError&) {

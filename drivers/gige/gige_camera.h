@@ -15,6 +15,7 @@
 #include "drivers/format_watch.h"
 #include "drivers/gige/frame_accounting.h"
 #include "drivers/gige/gige_config.h"
+#include "drivers/gige/gige_feature_setup.h"
 #include "drivers/gige/gige_stats.h"
 #include "drivers/gige/gobject_ptr.h"
 #include "drivers/gige/stream_watchdog.h"
@@ -85,9 +86,9 @@ class GigeCamera final : public CameraSource {
   int offset_y_px() const { return offset_y_px_; }
 
  private:
-  struct DeviceAnswer;
-  DeviceAnswer open_device();  // camera_ opened and configured, what it delivers read back
-  void open_stream();          // packet size, payload, stream and buffers for camera_
+  // camera_ opened and configured (configure_gige_features()), what it delivers read back.
+  GigeFeatureAnswer open_device();
+  void open_stream();  // packet size, payload, stream and buffers for camera_
   void close();
   void retire();
   void adopt(const CameraFormat& f);  // sizes, stream and mailbox for what open_device() found
@@ -129,11 +130,10 @@ class GigeCamera final : public CameraSource {
   std::atomic<SourceState> state_{SourceState::kClosed};
 
   GigeCounters counters_;  // the stream thread adds, stats() reads from any thread
-  // Owned by the stream thread while it runs.
+  // Owned by the stream thread while it runs (start() resets them before it starts it).
   FrameAccounting accounting_{counters_};
   StreamWatchdog watchdog_;
   DeviceClockMapper clock_mapper_;
-
   SpscRing<GigeHandoffTiming, 1024> timings_;
   FormatWatch format_watch_;  // capture thread; the station pops its events
 };
