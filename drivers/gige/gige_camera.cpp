@@ -1,9 +1,9 @@
+// GigeCamera: one GigE Vision camera's lifecycle (open, negotiate, stream, reconnect) on Aravis.
 #include "drivers/gige/gige_camera.h"
 
 #include <time.h>
 
 #include <algorithm>
-#include <cmath>
 #include <string_view>
 #include <thread>
 
@@ -11,8 +11,10 @@
 #include "drivers/convert/bayer_to_rgba.h"
 #include "drivers/convert/mono8_to_rgba.h"
 #include "drivers/convert/rgb8_to_rgba.h"
+#include "drivers/gige/arv_pixel_format.h"
 #include "drivers/gige/gige_prober.h"
 #include "drivers/gige/gvcp_liveness_probe.h"
+#include "drivers/gige/stream_sizing.h"
 
 namespace hd::drivers {
 
@@ -21,42 +23,9 @@ namespace {
 constexpr int64_t kPopTimeoutUs = 20'000;  // bounds how late stop() and stall checks react
 constexpr int64_t kReconnectPeriodNs = 500'000'000;  // how often a lost camera is looked for
 
-bool arv_format_for(PixelFormat f, ArvPixelFormat& out) {
-  switch (f) {
-    case PixelFormat::kMono8:
-      out = ARV_PIXEL_FORMAT_MONO_8;
-      return true;
-    case PixelFormat::kRgb8:
-      out = ARV_PIXEL_FORMAT_RGB_8_PACKED;
-      return true;
-    case PixelFormat::kBayerRggb8:
-      out = ARV_PIXEL_FORMAT_BAYER_RG_8;
-      return true;
-    case PixelFormat::kBayerGrbg8:
-      out = ARV_PIXEL_FORMAT_BAYER_GR_8;
-      return true;
-    case PixelFormat::kBayerGbrg8:
-      out = ARV_PIXEL_FORMAT_BAYER_GB_8;
-      return true;
-    case PixelFormat::kBayerBggr8:
-      out = ARV_PIXEL_FORMAT_BAYER_BG_8;
-      return true;
-    default:
-      return false;
-  }
-}
-
-bool pixel_format_of(ArvPixelFormat arv, PixelFormat& out) {
-  for (PixelFormat f :
-       {PixelFormat::kMono8, PixelFormat::kRgb8, PixelFormat::kBayerRggb8, PixelFormat::kBayerGrbg8,
-        PixelFormat::kBayerGbrg8, PixelFormat::kBayerBggr8}) {
-    ArvPixelFormat a = 0;
-    if (arv_format_for(f, a) && a == arv) {
-      out = f;
-      return true;
-    }
-  }
-  return false;
+// Aravis reports device timestamps already scaled to ns on a 64-bit counter.
+DeviceClockMapper new_clock_mapper() {
+  return DeviceClockMapper(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000});
 }
 
 int64_t clock_ns(clockid_t id) {
@@ -80,26 +49,18 @@ std::string ipv4_of(ArvCamera* camera) {
 
 }  // namespace
 
-// What open_device() found: the camera's answer to the configuration.
-struct GigeCamera::DeviceAnswer {
-  CameraFormat format;
-  std::string refused;  // what the camera did not take, and why
-  std::string limits;   // the sizes it can deliver
-  std::string detail;   // region offset and binning as read back
-};
-
 GigeCamera::GigeCamera(GigeConfig config)
     : config_(std::move(config)),
       mailbox_(std::make_unique<Mailbox<Frame>>()),
-      // Aravis reports device timestamps already scaled to ns on a 64-bit counter.
-      clock_mapper_(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000}) {}
+      watchdog_(StreamWatchdog::Config{config_.stall_timeout_ns, kReconnectPeriodNs}),
+      clock_mapper_(new_clock_mapper()) {}
 
 GigeCamera::~GigeCamera() {
   stop();
   close();
 }
 
-GigeCamera::DeviceAnswer GigeCamera::open_device() {
+GigeFeatureAnswer GigeCamera::open_device() {
   const std::string& id = config_.device_id;
   // Once negotiated, a reopen asks for that format only: the mailbox and the converter are set
   // up for it.
@@ -107,15 +68,10 @@ GigeCamera::DeviceAnswer GigeCamera::open_device() {
       format_.known()               ? std::vector<PixelFormat>{format_.pixel_format}
       : acceptable_formats_.empty() ? std::vector<PixelFormat>{config_.pixel_format}
                                     : acceptable_formats_;
-  {
-    ArvPixelFormat unused = 0;
-    bool any = false;
-    for (PixelFormat f : candidates) any = any || arv_format_for(f, unused);
-    if (!any) {
-      throw DeviceError("GigE camera '" + id + "': pixel format " +
-                        std::string(to_string(candidates.front())) +
-                        " is not supported (expected Mono8, RGB8, BayerRG8/GR8/GB8/BG8)");
-    }
+  if (std::none_of(candidates.begin(), candidates.end(), gige_converts)) {
+    throw DeviceError("GigE camera '" + id + "': pixel format " +
+                      std::string(to_string(candidates.front())) +
+                      " is not supported (expected Mono8, RGB8, BayerRG8/GR8/GB8/BG8)");
   }
   if (config_.buffer_count < 0 || config_.buffer_count == 1) {
     throw DeviceError("GigE camera '" + id + "': buffer_count must be 0 (auto) or >= 2, got " +
@@ -135,153 +91,23 @@ GigeCamera::DeviceAnswer GigeCamera::open_device() {
     camera_.reset();
     throw DeviceError("device '" + id + "' is not a GigE Vision camera");
   }
-  const auto fail = [&](std::string_view what) {
-    std::string msg = "GigE camera '" + id + "': " + std::string(what) + ": " + error.message();
-    camera_.reset();
-    throw DeviceError(msg);
-  };
-  ArvCamera* cam = camera_.get();
   // Aravis writes out-of-range values by default; a camera that silently clamps or ignores them
   // would then deliver something else than asked. With the check on, Aravis refuses them.
-  arv_camera_set_range_check_policy(cam, ARV_RANGE_CHECK_POLICY_ENABLE);
-  address_ = ipv4_of(cam);
-  DeviceAnswer a;
-  const auto refuse = [&a](const std::string& what) {
-    a.refused += (a.refused.empty() ? "" : "; ") + what;
-  };
-
-  // Pixel format: the first acceptable one the camera offers and takes.
-  guint n_offered = 0;
-  gint64* offered = arv_camera_dup_available_pixel_formats(cam, &n_offered, error.out());
-  error.clear();
-  bool format_set = false;
-  std::string format_why;
-  for (PixelFormat f : candidates) {
-    ArvPixelFormat arv = 0;
-    if (!arv_format_for(f, arv)) continue;
-    if (offered != nullptr &&
-        std::find(offered, offered + n_offered, gint64{arv}) == offered + n_offered) {
-      format_why += " " + std::string(to_string(f)) + " (not offered)";
-      continue;
-    }
-    arv_camera_set_pixel_format(cam, arv, error.out());
-    const bool took = !error && arv_camera_get_pixel_format(cam, error.out()) == arv && !error;
-    if (took) {
-      arv_format_ = arv;
-      pixel_format_ = f;
-      format_set = true;
-      break;
-    }
-    format_why += " " + std::string(to_string(f)) + " (" + error.message() + ")";
-  }
-  g_free(offered);
-  if (!format_set) {
+  arv_camera_set_range_check_policy(camera_.get(), ARV_RANGE_CHECK_POLICY_ENABLE);
+  address_ = ipv4_of(camera_.get());
+  GigeFeatureAnswer a;
+  try {
+    a = configure_gige_features(camera_.get(), config_, candidates);
+  } catch (const DeviceError&) {
     camera_.reset();
-    throw DeviceError("GigE camera '" + id +
-                      "': takes none of the pixel formats asked for:" + format_why);
+    throw;
   }
-
-  // Binning first: the region's sizes are binned pixels.
-  if (config_.binning_x > 0 || config_.binning_y > 0) {
-    const gboolean has_binning = arv_camera_is_binning_available(cam, error.out());
-    if (error || !has_binning) {
-      if (config_.binning_x > 1 || config_.binning_y > 1)
-        refuse("binning " + std::to_string(config_.binning_x) + "x" +
-               std::to_string(config_.binning_y) + ": the camera has no binning");
-    } else {
-      arv_camera_set_binning(cam, config_.binning_x > 0 ? config_.binning_x : -1,
-                             config_.binning_y > 0 ? config_.binning_y : -1, error.out());
-      if (error) refuse("binning: " + std::string(error.message()));
-    }
-  }
-  binning_x_ = binning_y_ = 1;
-  if (arv_camera_is_binning_available(cam, error.out()) && !error) {
-    gint bx = 1, by = 1;
-    arv_camera_get_binning(cam, &bx, &by, error.out());
-    if (!error) {
-      binning_x_ = bx;
-      binning_y_ = by;
-    }
-  }
-
-  gint x = 0, y = 0, w = 0, h = 0;
-  arv_camera_get_region(cam, &x, &y, &w, &h, error.out());
-  if (error) fail("reading region of interest");
-  gint w_min = 0, w_max = 0, h_min = 0, h_max = 0;
-  arv_camera_get_width_bounds(cam, &w_min, &w_max, error.out());
-  if (!error) arv_camera_get_height_bounds(cam, &h_min, &h_max, error.out());
-  const bool have_bounds = !error && w_max > 0 && h_max > 0;
-  gint w_inc = arv_camera_get_width_increment(cam, error.out());
-  if (error || w_inc < 1) w_inc = 1;
-  gint h_inc = arv_camera_get_height_increment(cam, error.out());
-  if (error || h_inc < 1) h_inc = 1;
-  error.clear();
-  if (have_bounds) {
-    a.limits = std::to_string(w_min) + ".." + std::to_string(w_max) + " x " +
-               std::to_string(h_min) + ".." + std::to_string(h_max) + " px";
-    if (w_inc > 1 || h_inc > 1)
-      a.limits += " in steps of " + std::to_string(w_inc) + "x" + std::to_string(h_inc);
-  }
-  const GigeRoi& roi = config_.roi;
-  if (roi.width_px > 0 && roi.height_px > 0) {
-    gint sensor_w = 0, sensor_h = 0;
-    arv_camera_get_sensor_size(cam, &sensor_w, &sensor_h, error.out());
-    error.clear();
-    const auto keep = [](int wanted, int current, int size, int sensor) {
-      if (wanted >= 0) return wanted;
-      return sensor <= 0 || current + size <= sensor ? current : 0;
-    };
-    const int want_x = keep(roi.x_px, x, roi.width_px, sensor_w);
-    const int want_y = keep(roi.y_px, y, roi.height_px, sensor_h);
-    if (w != roi.width_px || h != roi.height_px || x != want_x || y != want_y) {
-      const auto check = [](const char* name, int v, int lo, int hi, int inc) -> std::string {
-        if (v < lo || v > hi)
-          return std::string(name) + " " + std::to_string(v) + " is outside the camera's " +
-                 std::to_string(lo) + ".." + std::to_string(hi);
-        if ((v - lo) % inc != 0)
-          return std::string(name) + " " + std::to_string(v) + " is not " + std::to_string(lo) +
-                 " + a multiple of " + std::to_string(inc);
-        return {};
-      };
-      std::string why;
-      if (have_bounds) {
-        why = check("Width", roi.width_px, w_min, w_max, w_inc);
-        const std::string hy = check("Height", roi.height_px, h_min, h_max, h_inc);
-        why += (why.empty() || hy.empty() ? "" : ", ") + hy;
-      }
-      if (why.empty()) {
-        arv_camera_set_region(cam, want_x, want_y, roi.width_px, roi.height_px, error.out());
-        if (error) why = error.message();
-      }
-      if (!why.empty())
-        refuse("region " + size_text(roi.width_px, roi.height_px) + " at (" +
-               std::to_string(want_x) + ", " + std::to_string(want_y) + "): " + why);
-      arv_camera_get_region(cam, &x, &y, &w, &h, error.out());
-      if (error) fail("reading region of interest");
-    }
-  }
-  if (w <= 0 || h <= 0 || w > 65535 || h > 65535) {
-    camera_.reset();
-    throw DeviceError("GigE camera '" + id + "' reports an invalid image size " +
-                      std::to_string(w) + "x" + std::to_string(h));
-  }
-  if ((pixel_format_ != PixelFormat::kMono8 && pixel_format_ != PixelFormat::kRgb8) &&
-      (w < 2 || h < 2)) {
-    camera_.reset();
-    throw DeviceError("GigE camera '" + id + "': a Bayer image needs at least 2x2 pixels");
-  }
-  offset_x_px_ = x;
-  offset_y_px_ = y;
-  a.detail = "region at (" + std::to_string(x) + ", " + std::to_string(y) + "), binning " +
-             std::to_string(binning_x_) + "x" + std::to_string(binning_y_);
-
-  if (config_.frame_rate_hz > 0.0) {
-    arv_camera_set_frame_rate(cam, config_.frame_rate_hz, error.out());
-    if (error) fail("setting frame rate " + std::to_string(config_.frame_rate_hz) + " Hz");
-  }
-  const double rate = arv_camera_get_frame_rate(cam, error.out());
-  if (error) fail("reading frame rate");
-  a.format = CameraFormat{w, h, pixel_format_, rate};
+  arv_format_ = a.arv_format;
+  pixel_format_ = a.format.pixel_format;
+  binning_x_ = a.binning_x;
+  binning_y_ = a.binning_y;
+  offset_x_px_ = a.offset_x_px;
+  offset_y_px_ = a.offset_y_px;
   return a;
 }
 
@@ -325,22 +151,12 @@ void GigeCamera::open_stream() {
     fail("creating the stream");
   }
   const double rate = frame_rate_hz_ > 0.0 ? frame_rate_hz_ : 60.0;
-  const auto frames_100ms = static_cast<std::size_t>(std::ceil(rate * 0.1));
-  socket_buffer_bytes_ =
-      config_.socket_buffer_bytes > 0
-          ? config_.socket_buffer_bytes
-          : static_cast<int>(std::min<std::size_t>(
-                payload_bytes_ * std::max<std::size_t>(4, frames_100ms), 64u << 20));
-  g_object_set(
-      stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED, "socket-buffer-size",
-      socket_buffer_bytes_, "packet-resend", ARV_GV_STREAM_PACKET_RESEND_ALWAYS, "frame-retention",
-      static_cast<guint>(std::clamp<int64_t>(config_.frame_retention_ns / 1000, 1000, 10'000'000)),
-      nullptr);
-  buffer_count_ = config_.buffer_count;
-  if (buffer_count_ == 0) {
-    const double in_flight = rate * static_cast<double>(config_.frame_retention_ns) * 1e-9;
-    buffer_count_ = std::max(8, static_cast<int>(std::ceil(in_flight)) + 4);
-  }
+  socket_buffer_bytes_ = socket_buffer_bytes_for(config_.socket_buffer_bytes, payload_bytes_, rate);
+  g_object_set(stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED,
+               "socket-buffer-size", socket_buffer_bytes_, "packet-resend",
+               ARV_GV_STREAM_PACKET_RESEND_ALWAYS, "frame-retention",
+               static_cast<guint>(frame_retention_us_for(config_.frame_retention_ns)), nullptr);
+  buffer_count_ = buffer_count_for(config_.buffer_count, rate, config_.frame_retention_ns);
   for (int i = 0; i < buffer_count_; ++i) {
     arv_stream_push_buffer(stream_.get(), arv_buffer_new(payload_bytes_, nullptr));
   }
@@ -351,7 +167,7 @@ void GigeCamera::open_stream() {
 
 void GigeCamera::open() {
   if (camera_) return;
-  const DeviceAnswer a = open_device();
+  const GigeFeatureAnswer a = open_device();
   const GigeRoi& roi = config_.roi;
   if (roi.width_px > 0 && roi.height_px > 0 &&
       (a.format.width_px != roi.width_px || a.format.height_px != roi.height_px)) {
@@ -373,8 +189,7 @@ FormatNegotiation GigeCamera::negotiate(const CameraFormatRequest& wanted) {
   }
   acceptable_formats_.clear();
   for (PixelFormat f : wanted.pixel_formats) {
-    ArvPixelFormat unused = 0;
-    if (arv_format_for(f, unused)) acceptable_formats_.push_back(f);
+    if (gige_converts(f)) acceptable_formats_.push_back(f);
   }
   if (!wanted.pixel_formats.empty() && acceptable_formats_.empty()) {
     std::string asked;
@@ -385,7 +200,7 @@ FormatNegotiation GigeCamera::negotiate(const CameraFormatRequest& wanted) {
   if (wanted.frame_rate_hz > 0.0) config_.frame_rate_hz = wanted.frame_rate_hz;
   close();  // opened before: release it, the request replaces its configuration
   format_ = CameraFormat{};
-  const DeviceAnswer a = open_device();
+  const GigeFeatureAnswer a = open_device();
   adopt(a.format);
   return {a.format, a.refused, a.limits, a.detail};
 }
@@ -416,16 +231,13 @@ void GigeCamera::start() {
   if (!camera_) open();
   if (running_.load()) return;
   GErrorHolder error;
-  unwrapper_.reset();
-  got_first_frame_ = false;
-  rebase_sequence_ = last_sequence_ != 0;  // a restart must not move the sequence backwards
+  accounting_.start();
   arv_camera_start_acquisition(camera_.get(), error.out());
   if (error) {
     throw DeviceError("GigE camera '" + config_.device_id +
                       "': starting acquisition: " + error.message());
   }
-  last_frame_ns_ = monotonic_now_ns();
-  last_probe_ns_ = 0;
+  watchdog_.restart(monotonic_now_ns());
   state_.store(SourceState::kStreaming, std::memory_order_release);
   running_.store(true, std::memory_order_release);
   thread_ = std::thread([this] { stream_loop(); });
@@ -472,9 +284,9 @@ void GigeCamera::release_live() {
 }
 
 bool GigeCamera::reconnect() {
-  reopen_attempts_.fetch_add(1, std::memory_order_relaxed);
+  GigeCounters::bump(counters_.reopen_attempts);
   retire();
-  DeviceAnswer a;
+  GigeFeatureAnswer a;
   try {
     a = open_device();
   } catch (const DeviceError&) {
@@ -501,12 +313,10 @@ bool GigeCamera::reconnect() {
     retire();
     return false;
   }
-  unwrapper_.reset();
-  got_first_frame_ = false;
-  rebase_sequence_ = true;  // the camera's ids restarted; the consumer's sequence must not
-  clock_mapper_ = DeviceClockMapper(DeviceClockMapperConfig{64, 1.0, 200.0, 100'000'000});
-  last_frame_ns_ = now_ns;
-  reconnects_.fetch_add(1, std::memory_order_relaxed);
+  accounting_.reconnected();
+  clock_mapper_ = new_clock_mapper();
+  watchdog_.frame_at(now_ns);
+  GigeCounters::bump(counters_.reconnects);
   leave_mismatch(FormatEventCause::kReconnect, now_ns);
   state_.store(SourceState::kStreaming, std::memory_order_release);
   return true;
@@ -515,7 +325,7 @@ bool GigeCamera::reconnect() {
 void GigeCamera::enter_mismatch(FormatEventCause cause, const CameraFormat& seen, int64_t now_ns) {
   // State first: a consumer that sees the event must also see the camera as unusable.
   state_.store(SourceState::kFormatMismatch, std::memory_order_release);
-  if (format_watch_.lost(now_ns, cause, format_, seen)) mismatch_since_ns_ = now_ns;
+  if (format_watch_.lost(now_ns, cause, format_, seen)) watchdog_.mismatch_at(now_ns);
 }
 
 void GigeCamera::leave_mismatch(FormatEventCause cause, int64_t now_ns) {
@@ -523,23 +333,11 @@ void GigeCamera::leave_mismatch(FormatEventCause cause, int64_t now_ns) {
 }
 
 uint64_t GigeCamera::dropped_frames() const {
-  return bad_buffers_.load(std::memory_order_relaxed) + id_gaps_.load(std::memory_order_relaxed);
+  return counters_.dropped();
 }
 
 GigeStats GigeCamera::stats() const {
-  GigeStats s;
-  s.frames_published = frames_published_.load(std::memory_order_relaxed);
-  s.bad_buffers = bad_buffers_.load(std::memory_order_relaxed);
-  s.id_gaps = id_gaps_.load(std::memory_order_relaxed);
-  s.late_or_duplicate = late_.load(std::memory_order_relaxed);
-  s.malformed = malformed_.load(std::memory_order_relaxed);
-  s.wrong_format = wrong_format_.load(std::memory_order_relaxed);
-  s.liveness_probes = probes_.load(std::memory_order_relaxed);
-  s.last_bad_status = last_bad_status_.load(std::memory_order_relaxed);
-  s.reconnects = reconnects_.load(std::memory_order_relaxed);
-  s.reopen_attempts = reopen_attempts_.load(std::memory_order_relaxed);
-  s.bad_before_first_frame = bad_before_first_.load(std::memory_order_relaxed);
-  return s;
+  return counters_.snapshot();
 }
 
 void GigeCamera::stream_loop() {
@@ -557,47 +355,43 @@ void GigeCamera::stream_loop() {
       handle_buffer(buffer, now_ns);
       arv_stream_push_buffer(stream_.get(), buffer);  // back into the pool at once
     }
-    const SourceState s = state();
-    if (s == SourceState::kDisconnected || (s == SourceState::kFormatMismatch && !stream_)) {
-      // Reopen when the camera answers again (it was power-cycled, replugged or restarted), or
-      // try again whether one that answered with other settings now takes ours.
-      if (now_ns - last_probe_ns_ >= kReconnectPeriodNs) {
-        last_probe_ns_ = now_ns;
-        const auto answer = probe.ping(config_.liveness_timeout_ns);
-        if (answer == GvcpLivenessProbe::Answer::kAlive) {
-          reconnect();
-        } else if (s == SourceState::kFormatMismatch) {
-          state_.store(SourceState::kDisconnected, std::memory_order_release);
-        }
-      }
-      continue;
-    }
-    if (control_lost_.load(std::memory_order_acquire)) {
-      state_.store(SourceState::kDisconnected, std::memory_order_release);
-      continue;
-    }
-    if (s == SourceState::kFormatMismatch) {
-      // Streaming frames of another format (someone else reconfigured it, or it changed by
-      // itself): put our configuration back now and then, until the format is right again.
-      if (now_ns - mismatch_since_ns_ >= kReconnectPeriodNs &&
-          now_ns - last_probe_ns_ >= kReconnectPeriodNs) {
-        last_probe_ns_ = now_ns;
-        release_live();
+    look_after_camera(now_ns, probe);
+  }
+}
+
+void GigeCamera::look_after_camera(int64_t now_ns, GvcpLivenessProbe& probe) {
+  const SourceState s = state();
+  using Step = StreamWatchdog::Step;
+  switch (watchdog_.next(now_ns, s, !stream_, control_lost_.load(std::memory_order_acquire))) {
+    case Step::kNone:
+      return;
+    case Step::kProbeToReopen:
+      if (probe.ping(config_.liveness_timeout_ns) == GvcpLivenessProbe::Answer::kAlive) {
         reconnect();
+      } else if (s == SourceState::kFormatMismatch) {
+        state_.store(SourceState::kDisconnected, std::memory_order_release);
       }
-      continue;
-    }
-    if (now_ns - last_frame_ns_ <= config_.stall_timeout_ns) continue;
-    state_.store(SourceState::kStalled, std::memory_order_release);
-    // Probe at most once per stall timeout: a live camera that merely paused stays "stalled".
-    if (now_ns - last_probe_ns_ < config_.stall_timeout_ns) continue;
-    last_probe_ns_ = now_ns;
-    probes_.fetch_add(1, std::memory_order_relaxed);
-    if (address_.empty()) continue;
-    const auto answer = probe.ping(config_.liveness_timeout_ns);
-    if (answer == GvcpLivenessProbe::Answer::kRefused ||
-        answer == GvcpLivenessProbe::Answer::kTimeout) {
+      return;
+    case Step::kControlLost:
       state_.store(SourceState::kDisconnected, std::memory_order_release);
+      return;
+    case Step::kRestoreFormat:
+      release_live();
+      reconnect();
+      return;
+    case Step::kStalled:
+      state_.store(SourceState::kStalled, std::memory_order_release);
+      return;
+    case Step::kStalledProbe: {
+      state_.store(SourceState::kStalled, std::memory_order_release);
+      GigeCounters::bump(counters_.liveness_probes);
+      if (address_.empty()) return;
+      const auto answer = probe.ping(config_.liveness_timeout_ns);
+      if (answer == GvcpLivenessProbe::Answer::kRefused ||
+          answer == GvcpLivenessProbe::Answer::kTimeout) {
+        state_.store(SourceState::kDisconnected, std::memory_order_release);
+      }
+      return;
     }
   }
 }
@@ -606,30 +400,23 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
   const ArvBufferStatus status = arv_buffer_get_status(buffer);
   if (status == ARV_BUFFER_STATUS_SIZE_MISMATCH) {
     // A frame larger than the negotiated payload: the camera's format changed under us.
-    unwrapper_.update(arv_buffer_get_frame_id(buffer));
-    wrong_format_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.wrong_format(arv_buffer_get_frame_id(buffer));
     enter_mismatch(FormatEventCause::kFrame, CameraFormat{}, popped_ns);
     return;
   }
   if (status != ARV_BUFFER_STATUS_SUCCESS) {
-    // The frame is lost, but its id is known: feed it, so the next frame shows no gap and the
-    // loss is counted once.
-    unwrapper_.update(arv_buffer_get_frame_id(buffer));
-    bad_buffers_.fetch_add(1, std::memory_order_relaxed);
-    if (!got_first_frame_) bad_before_first_.fetch_add(1, std::memory_order_relaxed);
-    last_bad_status_.store(static_cast<int>(status), std::memory_order_relaxed);
+    accounting_.lost(arv_buffer_get_frame_id(buffer), static_cast<int>(status));
     return;
   }
   if (arv_buffer_get_payload_type(buffer) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE) {
-    malformed_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.malformed();
     return;
   }
   const int buffer_w = arv_buffer_get_image_width(buffer);
   const int buffer_h = arv_buffer_get_image_height(buffer);
   const ArvPixelFormat buffer_format = arv_buffer_get_image_pixel_format(buffer);
   if (buffer_w != width_px_ || buffer_h != height_px_ || buffer_format != arv_format_) {
-    unwrapper_.update(arv_buffer_get_frame_id(buffer));
-    wrong_format_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.wrong_format(arv_buffer_get_frame_id(buffer));
     CameraFormat seen{buffer_w, buffer_h, pixel_format_, frame_rate_hz_};
     if (buffer_format != arv_format_ && !pixel_format_of(buffer_format, seen.pixel_format))
       seen.pixel_format = PixelFormat::kRgba8;  // none GigE sends: "another one"
@@ -639,16 +426,12 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
   std::size_t size = 0;
   const auto* data = static_cast<const uint8_t*>(arv_buffer_get_image_data(buffer, &size));
   if (data == nullptr) {
-    malformed_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.malformed();
     return;
   }
-  const auto id = unwrapper_.update(arv_buffer_get_frame_id(buffer));
-  if (id.verdict != FrameIdUnwrapper::Verdict::kNext) {
-    (id.verdict == FrameIdUnwrapper::Verdict::kInvalid ? malformed_ : late_)
-        .fetch_add(1, std::memory_order_relaxed);
-    return;
-  }
-  id_gaps_.fetch_add(id.gap, std::memory_order_relaxed);
+  const std::optional<uint64_t> camera_sequence =
+      accounting_.admit(arv_buffer_get_frame_id(buffer));
+  if (!camera_sequence) return;
 
   // Aravis stamps arrival on the realtime clock; move it onto CLOCK_MONOTONIC.
   const uint64_t system_ns = arv_buffer_get_system_timestamp(buffer);
@@ -676,7 +459,7 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
       break;
   }
   if (!ok) {
-    malformed_.fetch_add(1, std::memory_order_relaxed);
+    accounting_.malformed();
     return;
   }
   const uint64_t device_ns = arv_buffer_get_timestamp(buffer);
@@ -685,23 +468,17 @@ void GigeCamera::handle_buffer(ArvBuffer* buffer, int64_t popped_ns) {
   f.host_timestamp_ns =
       f.device_time_trusted ? clock_mapper_.map(device_ns, arrival_ns) : arrival_ns;
   // State first: a consumer that sees the new frame must also see the stream as live.
-  last_frame_ns_ = popped_ns;
+  watchdog_.frame_at(popped_ns);
   if (state() == SourceState::kStalled || state() == SourceState::kFormatMismatch) {
     leave_mismatch(FormatEventCause::kFrame, popped_ns);
     state_.store(SourceState::kStreaming);
   }
-  got_first_frame_ = true;
-  if (rebase_sequence_) {
-    // Unsigned wrap-around arithmetic: the first frame after a reconnect follows the last one.
-    sequence_offset_ = last_sequence_ + 1 - id.sequence;
-    rebase_sequence_ = false;
-  }
-  f.sequence = id.sequence + sequence_offset_;
-  last_sequence_ = f.sequence;
+  f.sequence = accounting_.sequence_for(*camera_sequence);
   mailbox_->publish();
   const int64_t published_ns = monotonic_now_ns();
-  frames_published_.fetch_add(1, std::memory_order_relaxed);
-  timings_.push(GigeHandoffTiming{last_sequence_, arrival_ns, popped_ns, published_ns});
+  accounting_.published();
+  timings_.push(
+      GigeHandoffTiming{accounting_.last_sequence(), arrival_ns, popped_ns, published_ns});
 }
 
 }  // namespace hd::drivers

@@ -13,40 +13,17 @@
 #include "drivers/camera_source.h"
 #include "drivers/clock/device_clock_mapper.h"
 #include "drivers/format_watch.h"
-#include "drivers/gige/frame_id_unwrapper.h"
+#include "drivers/gige/frame_accounting.h"
 #include "drivers/gige/gige_config.h"
+#include "drivers/gige/gige_feature_setup.h"
+#include "drivers/gige/gige_stats.h"
 #include "drivers/gige/gobject_ptr.h"
+#include "drivers/gige/stream_watchdog.h"
 #include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
 
-/// When one frame crossed each stage, for latency measurement (CLOCK_MONOTONIC ns).
-struct GigeHandoffTiming {
-  uint64_t sequence = 0;
-  int64_t arrival_ns = 0;    ///< the frame's leader packet landed (Aravis buffer system time)
-  int64_t popped_ns = 0;     ///< our stream thread took it from Aravis's output queue
-  int64_t published_ns = 0;  ///< converted and published into the mailbox
-};
-
-/// Counters since start(); read from any thread.
-struct GigeStats {
-  uint64_t frames_published = 0;
-  uint64_t bad_buffers = 0;        ///< ARV_BUFFER_STATUS != SUCCESS (missing packets, timeout...)
-  uint64_t id_gaps = 0;            ///< frames missing from the block-id sequence
-  uint64_t late_or_duplicate = 0;  ///< ids at or before the newest one, skipped
-  uint64_t malformed = 0;          ///< not an image payload, or unconvertible, skipped
-  /// Frames of another size or pixel format than negotiated (ARV_BUFFER_STATUS_SIZE_MISMATCH
-  /// included): never published; the first of a run of them is a FormatEvent.
-  uint64_t wrong_format = 0;
-  uint64_t liveness_probes = 0;
-  int last_bad_status = 0;  ///< ArvBufferStatus of the newest bad buffer (0 = none yet)
-  uint64_t reconnects = 0;  ///< times a lost camera answered again and streams anew
-  /// Times a lost or mismatched camera that answered was opened again (successful or not).
-  uint64_t reopen_attempts = 0;
-  /// Of bad_buffers, those before the first good frame of a start or reconnect (a stream that
-  /// began mid-frame, or a first frame Aravis timed out while the host was busy starting).
-  uint64_t bad_before_first_frame = 0;
-};
+class GvcpLivenessProbe;
 
 /// Streams one GigE camera: open() negotiates region, pixel format, frame rate and packet size
 /// and sizes the mailbox; start() starts acquisition and a thread that pops Aravis buffers,
@@ -109,9 +86,9 @@ class GigeCamera final : public CameraSource {
   int offset_y_px() const { return offset_y_px_; }
 
  private:
-  struct DeviceAnswer;
-  DeviceAnswer open_device();  // camera_ opened and configured, what it delivers read back
-  void open_stream();          // packet size, payload, stream and buffers for camera_
+  // camera_ opened and configured (configure_gige_features()), what it delivers read back.
+  GigeFeatureAnswer open_device();
+  void open_stream();  // packet size, payload, stream and buffers for camera_
   void close();
   void retire();
   void adopt(const CameraFormat& f);  // sizes, stream and mailbox for what open_device() found
@@ -121,7 +98,7 @@ class GigeCamera final : public CameraSource {
   void leave_mismatch(FormatEventCause cause, int64_t now_ns);
   void stream_loop();
   void handle_buffer(ArvBuffer* buffer, int64_t popped_ns);
-  void check_liveness(int64_t now_ns);
+  void look_after_camera(int64_t now_ns, GvcpLivenessProbe& probe);
   static void on_control_lost(ArvDevice* device, gpointer self);
 
   GigeConfig config_;
@@ -152,28 +129,11 @@ class GigeCamera final : public CameraSource {
   std::atomic<bool> control_lost_{false};
   std::atomic<SourceState> state_{SourceState::kClosed};
 
-  // Owned by the stream thread while it runs.
-  FrameIdUnwrapper unwrapper_;
+  GigeCounters counters_;  // the stream thread adds, stats() reads from any thread
+  // Owned by the stream thread while it runs (start() resets them before it starts it).
+  FrameAccounting accounting_{counters_};
+  StreamWatchdog watchdog_;
   DeviceClockMapper clock_mapper_;
-  int64_t last_frame_ns_ = 0;
-  int64_t last_probe_ns_ = 0;
-  bool rebase_sequence_ = false;
-  int64_t mismatch_since_ns_ = 0;
-  uint64_t sequence_offset_ = 0;
-  uint64_t last_sequence_ = 0;
-
-  std::atomic<uint64_t> frames_published_{0};
-  std::atomic<uint64_t> bad_buffers_{0};
-  std::atomic<uint64_t> id_gaps_{0};
-  std::atomic<uint64_t> late_{0};
-  std::atomic<uint64_t> malformed_{0};
-  std::atomic<uint64_t> wrong_format_{0};
-  std::atomic<uint64_t> probes_{0};
-  std::atomic<int> last_bad_status_{0};
-  std::atomic<uint64_t> reconnects_{0};
-  std::atomic<uint64_t> reopen_attempts_{0};
-  std::atomic<uint64_t> bad_before_first_{0};
-  bool got_first_frame_ = false;
   SpscRing<GigeHandoffTiming, 1024> timings_;
   FormatWatch format_watch_;  // capture thread; the station pops its events
 };
