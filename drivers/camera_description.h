@@ -24,8 +24,10 @@ struct CameraDescription {
   std::string calibration_file;
   core::Pinhole p_c;  ///< with the lens's distortion coefficients
   core::Pose T_world_cam;
-  double rate_hz = 30.0;  ///< a simulated camera's frame rate (a device reports its own)
-  double d_m = 1.0;       ///< the plane distance the station projects this camera's video on
+  /// A simulated camera's frame rate (scenes: 30 when not given); 0 unknown: a device reports
+  /// its own when asked.
+  double rate_hz = 0.0;
+  double d_m = 1.0;  ///< the plane distance the station projects this camera's video on
   /// Video older than this at the display time is not shown as live (core/video_age.h);
   /// 0: the default, core::default_max_video_age_s of the rate it delivers plus known delays.
   double max_video_age_ms = 0.0;

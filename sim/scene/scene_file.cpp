@@ -120,7 +120,7 @@ SceneCamera read_camera(const YamlFields& c) {
   cam.id = "sim:" + cam.name;
   cam.line = c.line();
   if (cam.name.empty()) c.fail("name", "a camera needs a name");
-  cam.rate_hz = c.optional_double("rate_hz", cam.rate_hz, Range{0.0, 1000.0, true, false});
+  cam.rate_hz = c.optional_double("rate_hz", 30.0, Range{0.0, 1000.0, true, false});
   cam.d_m = c.required_double("d_m", Range::positive());
   cam.max_video_age_ms =
       c.optional_double("max_video_age_ms", 0.0, Range{0.0, 60'000.0, true, false});
