@@ -15,7 +15,6 @@ StationFrame::StationFrame(StationFrameConfig config,
                            render::Compositor& compositor, const render::SyntheticScene* scene,
                            render::LoopClock& clock, render::LatencyRecorder& latency)
     : config_(config),
-      cameras_(cameras.begin(), cameras.end()),
       pose_(pose),
       predictor_(predictor),
       compositor_(compositor),
@@ -23,23 +22,17 @@ StationFrame::StationFrame(StationFrameConfig config,
       clock_(clock),
       latency_(latency),
       transition_(config.transition),
-      selector_(config.selection),
-      m_camera_(cameras.size(), INFINITY),
-      m_view_(cameras.size(), INFINITY),
-      measure_(cameras.size() * 2),
-      has_frame_(cameras.size(), 0),
-      usable_(cameras.size(), 0),
-      age_s_(cameras.size(), NAN),
-      max_age_s_(cameras.size(), 0.0),
-      fade_s_(cameras.size(), 0.0),
-      first_new_ns_(cameras.size(), 0),
-      stream_revision_(cameras.size(), 0),
-      fetched_(cameras.size(), 0) {
-  for (std::size_t i = 0; i < cameras_.size(); ++i) {
-    const double max_age = cameras_[i].max_video_age_s > 0.0 ? cameras_[i].max_video_age_s
-                                                             : core::default_max_video_age_s(0.0);
-    max_age_s_[i] = max_age;
-    fade_s_[i] = core::video_age_fade_s(max_age, config_.transition.time_constant_s);
+      selector_(config.selection) {
+  m_camera_.assign(cameras.size(), INFINITY);
+  m_view_.assign(cameras.size(), INFINITY);
+  for (const drivers::CalibratedCamera& c : cameras) {
+    CameraState& s = cameras_.emplace_back();
+    s.calibrated = c;
+    s.max_age_s = c.max_video_age_s > 0.0 ? c.max_video_age_s : core::default_max_video_age_s(0.0);
+    s.fade_s = core::video_age_fade_s(s.max_age_s, config_.transition.time_constant_s);
+    guidance_cameras_.push_back({c.p_c, c.T_world_real, c.d_m});
+    // Not calibrated yet: no pose to guide the operator to (an invalid pose is skipped).
+    if (!c.p_c.valid()) guidance_cameras_.back().T_world_real.R.setZero();
   }
   out_.allocate(config_.rig.output_width(), config_.rig.output_height());
   if (config_.lens) {
@@ -52,12 +45,13 @@ StationFrame::StationFrame(StationFrameConfig config,
     hud_ =
         render::HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24), 3);
   }
-  for (const drivers::CalibratedCamera& c : cameras_) {
-    guidance_cameras_.push_back({c.p_c, c.T_world_real, c.d_m});
-    // Not calibrated yet: no pose to guide the operator to (an invalid pose is skipped).
-    if (!c.p_c.valid()) guidance_cameras_.back().T_world_real.R.setZero();
-  }
   rows_.reserve(config_.max_rows);
+}
+
+std::vector<uint64_t> StationFrame::frames_fetched() const {
+  std::vector<uint64_t> out;
+  for (const CameraState& c : cameras_) out.push_back(c.fetched);
+  return out;
 }
 
 void StationFrame::set_model_updater(ModelUpdater* updater) {
@@ -67,19 +61,20 @@ void StationFrame::set_model_updater(ModelUpdater* updater) {
 void StationFrame::tick(const render::FrameTiming& timing) {
   // Newest frame of every camera (the device threads keep publishing meanwhile).
   for (std::size_t i = 0; i < cameras_.size(); ++i) {
-    if (cameras_[i].source && cameras_[i].source->frames().fetch()) {
-      if (has_frame_[i] && !usable_[i] && first_new_ns_[i] == 0)
-        first_new_ns_[i] = cameras_[i].source->frames().latest().host_timestamp_ns;
-      has_frame_[i] = 1;
-      ++fetched_[i];
-      const drivers::FrameCalibration& cal = cameras_[i].source->frames().latest().calibration;
-      if (cal.present && int64_t(cal.revision) + 1 != stream_revision_[i]) {
-        stream_revision_[i] = int64_t(cal.revision) + 1;
-        cameras_[i].p_c = cal.p_c;
-        cameras_[i].T_world_real = cal.T_world_cam;
-        guidance_cameras_[i].p_c = cal.p_c;
-        guidance_cameras_[i].T_world_real = cal.T_world_cam;
-      }
+    CameraState& c = cameras_[i];
+    drivers::CameraSource* src = c.calibrated.source;
+    if (src == nullptr || !src->frames().fetch()) continue;
+    if (c.has_frame && !c.usable && c.first_new_ns == 0)
+      c.first_new_ns = src->frames().latest().host_timestamp_ns;
+    c.has_frame = true;
+    ++c.fetched;
+    const drivers::FrameCalibration& cal = src->frames().latest().calibration;
+    if (cal.present && int64_t(cal.revision) + 1 != c.stream_revision) {
+      c.stream_revision = int64_t(cal.revision) + 1;
+      c.calibrated.p_c = cal.p_c;
+      c.calibrated.T_world_real = cal.T_world_cam;
+      guidance_cameras_[i].p_c = cal.p_c;
+      guidance_cameras_[i].T_world_real = cal.T_world_cam;
     }
   }
   // Newest model: before its first update the mailbox shows the a-priori model (capture 0).
@@ -100,81 +95,80 @@ void StationFrame::tick(const render::FrameTiming& timing) {
 
   // Age of every camera's newest frame at the display time, and whether it may be shown.
   bool any_blocked = false;
-  for (std::size_t c = 0; c < cameras_.size(); ++c) {
-    const drivers::CameraSource* src = cameras_[c].source;
+  for (std::size_t i = 0; i < cameras_.size(); ++i) {
+    CameraState& c = cameras_[i];
+    drivers::CameraSource* src = c.calibrated.source;
     const drivers::SourceState state = src ? src->state() : drivers::SourceState::kClosed;
     const bool streaming = state == drivers::SourceState::kStreaming;
-    age_s_[c] = has_frame_[c] ? core::age_s(cameras_[c].source->frames().latest().host_timestamp_ns,
-                                            timing.display_ns)
-                              : NAN;
-    const bool usable =
-        has_frame_[c] && cameras_[c].p_c.valid() &&
-        std::isfinite(core::time_extended_m(0.0, streaming, age_s_[c], max_age_s_[c]));
-    any_blocked = any_blocked || (has_frame_[c] && !usable);
-    if (usable != (usable_[c] != 0)) {
-      usable_[c] = usable;
-      if (!usability_events_.push({static_cast<int>(c), usable, timing.frame, timing.display_ns,
-                                   age_s_[c], usable ? first_new_ns_[c] : 0, state}))
+    c.age_s = c.has_frame ? core::age_s(src->frames().latest().host_timestamp_ns, timing.display_ns)
+                          : NAN;
+    const bool usable = c.has_frame && c.calibrated.p_c.valid() &&
+                        std::isfinite(core::time_extended_m(0.0, streaming, c.age_s, c.max_age_s));
+    any_blocked = any_blocked || (c.has_frame && !usable);
+    if (usable != c.usable) {
+      c.usable = usable;
+      if (!usability_events_.push({static_cast<int>(i), usable, timing.frame, timing.display_ns,
+                                   c.age_s, usable ? c.first_new_ns : 0, state}))
         ++usability_events_lost_;
-      first_new_ns_[c] = 0;
+      c.first_new_ns = 0;
     }
   }
   frames_stale_blocked_ += any_blocked;
 
   const render::StereoRig& rig = config_.rig;
   const int eyes = rig.eye_count();
-  for (std::size_t c = 0; c < cameras_.size(); ++c) {
+  for (std::size_t i = 0; i < cameras_.size(); ++i) {
+    CameraState& c = cameras_[i];
     double worse = 0.0;
-    if (!cameras_[c].p_c.valid()) {  // no calibration yet: nothing to measure
-      m_camera_[c] = INFINITY;
+    if (!c.calibrated.p_c.valid()) {  // no calibration yet: nothing to measure
+      m_camera_[i] = INFINITY;
       continue;
     }
     for (int e = 0; e < eyes; ++e) {
       core::ViewSetup s;
-      s.real = cameras_[c].p_c;
-      s.T_world_real = cameras_[c].T_world_real;
+      s.real = c.calibrated.p_c;
+      s.T_world_real = c.calibrated.T_world_real;
       s.virt = rig.eye[static_cast<std::size_t>(e)];
       s.T_world_virt = rig.T_world_eye(T_world_head, e);
-      s.d_m = cameras_[c].d_m;
+      s.d_m = c.calibrated.d_m;
       s.near_m = config_.near_m;
       s.workspace = config_.workspace;
-      core::ViewMeasure& vm = measure_[c * 2 + static_cast<std::size_t>(e)];
+      core::ViewMeasure& vm = c.measure[static_cast<std::size_t>(e)];
       vm = core::measure_view(s);
       worse = render::StereoRig::worse_m(worse, vm.m);
     }
-    m_view_[c] = worse;
-    m_camera_[c] = usable_[c] ? worse : INFINITY;
+    m_view_[i] = worse;
+    m_camera_[i] = c.usable ? worse : INFINITY;
   }
   const int chosen = selector_.update(m_camera_, timing.dt_s);
   const double m = chosen >= 0 ? m_camera_[static_cast<std::size_t>(chosen)] : INFINITY;
   // A camera left with nothing better stays on screen while its video fades out, its weight
   // held down by its frame's age.
   if (chosen >= 0) shown_ = chosen;
-  const double w_cap = shown_ >= 0
-                           ? core::video_weight_cap(age_s_[static_cast<std::size_t>(shown_)],
-                                                    max_age_s_[static_cast<std::size_t>(shown_)],
-                                                    fade_s_[static_cast<std::size_t>(shown_)])
-                           : 1.0;
+  const CameraState* shown = shown_ >= 0 ? &cameras_[static_cast<std::size_t>(shown_)] : nullptr;
+  const double w_cap =
+      shown ? core::video_weight_cap(shown->age_s, shown->max_age_s, shown->fade_s) : 1.0;
   const core::TransitionState ts = transition_.update(m, timing.dt_s, w_cap);
-  if (chosen < 0 && ts.w_video <= 0.0) shown_ = -1;
+  if (chosen < 0 && ts.w_video <= 0.0) {
+    shown_ = -1;
+    shown = nullptr;
+  }
 
   render::GuidanceCue cue;
   if (config_.draw_guidance && ts.w_video <= 0.0)
     cue = guidance_toward_nearest(rig.eye[0], rig.T_world_eye(T_world_head, 0), guidance_cameras_);
 
   // The staleness cue: the model fades with its age, video past 3/4 of its bound is framed.
-  const double shown_age_s = shown_ >= 0 ? age_s_[static_cast<std::size_t>(shown_)] : NAN;
-  const bool video_stale =
-      shown_ >= 0 && ts.w_video > 0.0 &&
-      !(shown_age_s <= (config_.marking.video_age_warn_ms > 0.0
-                            ? 1e-3 * config_.marking.video_age_warn_ms
-                            : 0.75 * max_age_s_[static_cast<std::size_t>(shown_)]));
+  const bool video_stale = shown && ts.w_video > 0.0 &&
+                           !(shown->age_s <= (config_.marking.video_age_warn_ms > 0.0
+                                                  ? 1e-3 * config_.marking.video_age_warn_ms
+                                                  : 0.75 * shown->max_age_s));
   const core::MarkingParams marking =
       config_.marking.for_ages(1e3 * core::age_s(model_capture_ns, timing.display_ns), video_stale);
 
   const int64_t render_start_ns = clock_.now_ns();
   const drivers::Frame* video = nullptr;
-  if (shown_ >= 0) video = &cameras_[static_cast<std::size_t>(shown_)].source->frames().latest();
+  if (shown) video = &shown->calibrated.source->frames().latest();
   for (int e = 0; e < eyes; ++e) {
     render::CompositeRequest req;
     req.scene = scene;
@@ -182,9 +176,8 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     req.T_world_eye = rig.T_world_eye(T_world_head, e);
     req.near_m = config_.near_m;
     if (video) {
-      const drivers::CalibratedCamera& cam = cameras_[static_cast<std::size_t>(shown_)];
-      const core::ViewMeasure& vm =
-          measure_[static_cast<std::size_t>(shown_) * 2 + static_cast<std::size_t>(e)];
+      const drivers::CalibratedCamera& cam = shown->calibrated;
+      const core::ViewMeasure& vm = shown->measure[static_cast<std::size_t>(e)];
       req.video = video;
       req.real = cam.p_c;
       req.T_world_real = cam.T_world_real;

@@ -2,6 +2,7 @@
 // One frame of the station, as the frame loop runs it: late-latched predicted pose, m for every
 // camera and eye, camera choice, transition, compositing, guidance, latency record.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -126,8 +127,9 @@ class StationFrame final : public render::FrameWork {
   const FrameRow& last_row() const { return last_row_; }
   const PoseHistory& pose_history() const { return history_; }
   const CameraSelector& selector() const { return selector_; }
-  /// Frames in which each camera showed a new frame (index = camera).
-  const std::vector<uint64_t>& frames_fetched() const { return fetched_; }
+  /// Frames in which each camera showed a new frame (index = camera). Not for the tick's thread
+  /// while it runs: it allocates.
+  std::vector<uint64_t> frames_fetched() const;
   /// The oldest usability change not taken yet (call between ticks, on the render thread).
   bool pop_usability_event(CameraUsabilityEvent& out) { return usability_events_.pop(out); }
   /// Usability changes lost because nobody took them (the ring holds 256).
@@ -136,17 +138,36 @@ class StationFrame final : public render::FrameWork {
   /// withheld because it was too old or its source not streaming).
   uint64_t frames_stale_blocked() const { return frames_stale_blocked_; }
   /// Whether camera i was usable in the newest frame.
-  bool usable(std::size_t i) const { return usable_[i] != 0; }
+  bool usable(std::size_t i) const { return cameras_[i].usable; }
   /// The p_c / P_c camera i is measured and drawn with now: its CalibratedCamera's, or the
   /// calibration its newest frame brought (a network camera whose sender streams it).
-  const drivers::CalibratedCamera& camera(std::size_t i) const { return cameras_[i]; }
+  const drivers::CalibratedCamera& camera(std::size_t i) const { return cameras_[i].calibrated; }
   /// The newest frame's geometric m per camera (worse eye) at the predicted pose, whether or
   /// not its video is usable: what bandwidth-follows-the-view decides on (CameraNeedPolicy).
   std::span<const double> view_m() const { return m_view_; }
 
  private:
+  /// What the tick knows of one camera between frames.
+  struct CameraState {
+    drivers::CalibratedCamera calibrated;      ///< p_c / P_c as measured and drawn now
+    std::array<core::ViewMeasure, 2> measure;  ///< per eye
+    bool has_frame = false;
+    bool usable = false;
+    double age_s = NAN;        ///< newest frame's age at the display time
+    double max_age_s = 0.0;    ///< its bound (core/video_age.h)
+    double fade_s = 0.0;       ///< core::video_age_fade_s
+    int64_t first_new_ns = 0;  ///< first frame fetched while unusable
+    /// The stream calibration in use (revision + 1; 0: the CalibratedCamera's own).
+    int64_t stream_revision = 0;
+    uint64_t fetched = 0;  ///< frames in which it showed a new frame
+  };
+
   StationFrameConfig config_;
-  std::vector<drivers::CalibratedCamera> cameras_;
+  std::vector<CameraState> cameras_;
+  /// The selector's, the need policy's and the guidance's inputs, one entry per camera: kept
+  /// contiguous for them, written from cameras_ each tick.
+  std::vector<double> m_camera_;  ///< worse-eye m per camera (+inf: not usable)
+  std::vector<double> m_view_;    ///< worse-eye m per camera, usable or not
   std::vector<render::GuidanceCamera> guidance_cameras_;
   drivers::PoseSource& pose_;
   PosePredictor& predictor_;
@@ -162,22 +183,10 @@ class StationFrame final : public render::FrameWork {
   render::ImageRgba8 panel_;  ///< allocated with a lens only
   render::HudStrip hud_;
   render::Viewport hud_viewport_{};  ///< with a lens: eye 0's visible part, in the eyes' picture
-  std::vector<double> m_camera_;     ///< worse-eye m per camera (+inf: not usable)
-  std::vector<double> m_view_;       ///< worse-eye m per camera, usable or not
-  std::vector<core::ViewMeasure> measure_;  ///< [camera * 2 + eye]
-  std::vector<uint8_t> has_frame_;
-  std::vector<uint8_t> usable_;
-  std::vector<double> age_s_;          ///< newest frame's age at the display time, per camera
-  std::vector<double> max_age_s_;      ///< per camera
-  std::vector<double> fade_s_;         ///< per camera (core::video_age_fade_s)
-  std::vector<int64_t> first_new_ns_;  ///< first frame fetched while unusable, per camera
-  /// The stream calibration in use per camera (revision + 1; 0: the CalibratedCamera's own).
-  std::vector<int64_t> stream_revision_;
-  int shown_ = -1;  ///< the camera whose video is drawn (chosen, or fading out)
+  int shown_ = -1;                   ///< the camera whose video is drawn (chosen, or fading out)
   drivers::SpscRing<CameraUsabilityEvent, 256> usability_events_;
   uint64_t usability_events_lost_ = 0;
   uint64_t frames_stale_blocked_ = 0;
-  std::vector<uint64_t> fetched_;
   std::vector<FrameRow> rows_;
   uint64_t rows_dropped_ = 0;
   FrameRow last_row_;
