@@ -273,7 +273,6 @@ int run(const RunOptions& o) {
       if (pair.left < p.cameras.size()) need.keep(pair.left);
       if (pair.right < p.cameras.size()) need.keep(pair.right);
     }
-  std::vector<uint64_t> need_changes(p.cameras.size(), 0);
   for (;;) {
     if (o.frames && loop.frames() >= o.frames) break;
     if (!o.frames && seconds > 0.0 && clock.now_ns() >= end_ns) break;
@@ -292,10 +291,7 @@ int run(const RunOptions& o) {
     usability.poll(frame, camera_names);
     need.update(frame.view_m(), frame.selector().current(), now);
     for (std::size_t i = 0; i < p.cameras.size(); ++i)
-      if (drivers::CameraLink* link = p.cameras[i].link) {
-        need_changes[i] += link->view_needed() != need.needed(i);
-        link->set_view_needed(need.needed(i));
-      }
+      if (drivers::CameraLink* link = p.cameras[i].link) link->set_view_needed(need.needed(i));
     if (now >= next_hud_ns) {
       next_hud_ns = now + 500'000'000;
       const station::FrameRow& r = frame.last_row();
@@ -349,7 +345,7 @@ int run(const RunOptions& o) {
     RunSummary::NetworkCamera n;
     static_cast<drivers::LinkReport&>(n) = c.link->link_report();
     n.camera = c.name;
-    n.need_changes = need_changes[i];
+    n.need_changes = need.changes(i);
     const int64_t revision = c.pipeline->stream_revision();
     const std::string& file = c.description.calibration_file;
     n.calibration = revision >= 0  ? "stream (revision " + std::to_string(revision) + ")"

@@ -6,7 +6,11 @@
 namespace hd::station {
 
 CameraNeedPolicy::CameraNeedPolicy(std::size_t cameras, CameraNeedParams params)
-    : params_(params), last_wanted_ns_(cameras, 0), needed_(cameras, 1), kept_(cameras, 0) {}
+    : params_(params),
+      last_wanted_ns_(cameras, 0),
+      needed_(cameras, 1),
+      kept_(cameras, 0),
+      camera_changes_(cameras, 0) {}
 
 void CameraNeedPolicy::update(std::span<const double> m, int chosen, int64_t now_ns) {
   if (!started_) {  // every camera counts as wanted just now: the hold starts at the first frame
@@ -27,7 +31,10 @@ void CameraNeedPolicy::update(std::span<const double> m, int chosen, int64_t now
                         (std::isfinite(mi) && mi < params_.m_t + params_.margin);
     if (wanted) last_wanted_ns_[i] = now_ns;
     const uint8_t need = now_ns - last_wanted_ns_[i] < hold_ns || wanted ? 1 : 0;
-    if (need != needed_[i]) ++changes_;
+    if (need != needed_[i]) {
+      ++changes_;
+      ++camera_changes_[i];
+    }
     needed_[i] = need;
   }
 }

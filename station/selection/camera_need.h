@@ -34,6 +34,8 @@ class CameraNeedPolicy {
   std::size_t size() const { return needed_.size(); }
   /// Changes of any camera's need since construction (flaps show here).
   uint64_t changes() const { return changes_; }
+  /// Of which camera i's.
+  uint64_t changes(std::size_t i) const { return camera_changes_[i]; }
 
  private:
   CameraNeedParams params_;
@@ -42,6 +44,7 @@ class CameraNeedPolicy {
   std::vector<uint8_t> kept_;
   bool started_ = false;
   uint64_t changes_ = 0;
+  std::vector<uint64_t> camera_changes_;
 };
 
 }  // namespace hd::station

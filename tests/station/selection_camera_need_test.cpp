@@ -59,6 +59,10 @@ TEST(CameraNeed, ACameraNearTheThresholdDoesNotFlapAndComesBackAtOnce) {
   p.update(std::vector<double>{10.0, 20.0, 59.9}, 0, t + kMs);
   EXPECT_TRUE(p.needed(2));
   EXPECT_EQ(p.changes(), 2u);
+  // Both changes were camera 2's: the per-camera counts add up to the total.
+  EXPECT_EQ(p.changes(2), 2u);
+  EXPECT_EQ(p.changes(0), 0u);
+  EXPECT_EQ(p.changes(1), 0u);
 }
 
 TEST(CameraNeed, AnUnusableCameraIsNotWantedByTheThresholdButTheChosenOneAlways) {
