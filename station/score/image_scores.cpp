@@ -1,0 +1,84 @@
+#include "station/score/image_scores.h"
+
+#include <cmath>
+#include <limits>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/quality.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace hd::station {
+namespace {
+
+// The picture's colour channels as a 3-channel Mat (a copy: the quality module wants BGR-like
+// continuous 8-bit data, and alpha must not count).
+cv::Mat colour(const render::ImageRgba8& im) {
+  const cv::Mat rgba(im.height, im.width, CV_8UC4, const_cast<uint8_t*>(im.data.data()),
+                     static_cast<std::size_t>(im.stride_bytes));
+  cv::Mat rgb;
+  cv::cvtColor(rgba, rgb, cv::COLOR_RGBA2RGB);
+  return rgb;
+}
+
+void check_sizes(const render::ImageRgba8& a, const render::ImageRgba8& b) {
+  if (a.width != b.width || a.height != b.height || a.empty())
+    throw std::invalid_argument("score: pictures of different sizes (" + std::to_string(a.width) +
+                                "x" + std::to_string(a.height) + " against " +
+                                std::to_string(b.width) + "x" + std::to_string(b.height) + ")");
+}
+
+double channel_mean(const cv::Scalar& s) {
+  return (s[0] + s[1] + s[2]) / 3.0;
+}
+
+}  // namespace
+
+double psnr_from_mse(double mse) {
+  if (!(mse > 0.0)) return kPsnrCapDb;
+  return std::min(kPsnrCapDb, 10.0 * std::log10(255.0 * 255.0 / mse));
+}
+
+ImageScores score_image(const render::ImageRgba8& shown, const render::ImageRgba8& truth) {
+  check_sizes(shown, truth);
+  const cv::Mat a = colour(shown), b = colour(truth);
+  ImageScores s;
+  // MSE over all pixels and channels (QualityPSNR's per-channel figures would be averaged in dB,
+  // which is not the PSNR of the picture).
+  cv::Mat diff;
+  cv::absdiff(a, b, diff);
+  diff.convertTo(diff, CV_64F);
+  const double sse = cv::sum(diff.mul(diff)).dot(cv::Scalar(1, 1, 1, 0));
+  s.psnr_db = psnr_from_mse(sse / (3.0 * static_cast<double>(a.total())));
+  s.ssim = channel_mean(cv::quality::QualitySSIM::compute(b, a, cv::noArray()));
+  s.gmsd = channel_mean(cv::quality::QualityGMSD::compute(b, a, cv::noArray()));
+  return s;
+}
+
+double masked_psnr_db(const render::ImageRgba8& shown, const render::ImageRgba8& truth,
+                      std::span<const uint8_t> mask) {
+  check_sizes(shown, truth);
+  if (mask.size() != static_cast<std::size_t>(shown.width) * static_cast<std::size_t>(shown.height))
+    throw std::invalid_argument("score: mask of " + std::to_string(mask.size()) +
+                                " bytes for a picture of " + std::to_string(shown.width) + "x" +
+                                std::to_string(shown.height));
+  double sse = 0.0;
+  std::size_t n = 0;
+  for (int y = 0; y < shown.height; ++y) {
+    const uint8_t* p = shown.row(y);
+    const uint8_t* q = truth.row(y);
+    const uint8_t* m = mask.data() + static_cast<std::size_t>(y) * shown.width;
+    for (int x = 0; x < shown.width; ++x) {
+      if (m[x] == 0) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double d = double(p[4 * x + c]) - double(q[4 * x + c]);
+        sse += d * d;
+      }
+      n += 3;
+    }
+  }
+  if (n == 0) return std::numeric_limits<double>::quiet_NaN();
+  return psnr_from_mse(sse / static_cast<double>(n));
+}
+
+}  // namespace hd::station
