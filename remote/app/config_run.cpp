@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "calib/camera_factory.h"
+#include "core/config/config_error.h"
 #include "drivers/camera_format.h"
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/rtp_calibration.h"
@@ -15,7 +16,6 @@
 #include "remote/app/remote_config.h"
 #include "remote/sender/h264_encoder.h"
 #include "remote/sender/rtp_sender.h"
-#include "sim/scene/config_error.h"
 
 namespace hd::remote {
 
@@ -23,7 +23,7 @@ int run_config(const std::string& config_file, double seconds, const std::atomic
   RemoteConfig config;
   try {
     config = load_remote_config(config_file);
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     std::fprintf(stderr, "hybrid-remote: %s\n", e.what());
     return 2;
   }

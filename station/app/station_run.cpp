@@ -463,7 +463,7 @@ int run_station(const RunOptions& o) {
   int rc = 1;
   try {
     rc = run(o);
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "hybrid-station run: %s\n", e.what());
     rc = 2;
