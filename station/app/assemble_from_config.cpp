@@ -3,8 +3,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "calib/camera_factory.h"
+#include "calib/replay_images.h"
 #include "core/video_age.h"
+#include "drivers/camera_factory.h"
 #include "drivers/camera_format.h"
 #include "drivers/hid/hid_head_tracker.h"
 #include "drivers/hid/hidapi_transport.h"
@@ -83,21 +84,21 @@ std::string format_refusal(const CameraConfig& cc, const drivers::FormatNegotiat
   const std::string calibrated = drivers::size_text(cc.p_c.width, cc.p_c.height);
   const std::string delivered = drivers::size_text(got.delivered.width_px, got.delivered.height_px);
   std::string how;
-  switch (calib::camera_kind(cc.id)) {
-    case calib::CameraKind::kGige:
+  switch (drivers::camera_kind(cc.id)) {
+    case drivers::CameraKind::kGige:
       how = "set its region (Width, Height, and binning) so that it delivers " + calibrated;
       break;
-    case calib::CameraKind::kV4l2:
+    case drivers::CameraKind::kV4l2:
       how = "use a camera with a " + calibrated + " mode (v4l2-ctl -d " + cc.id +
             " --list-formats-ext lists them)";
       break;
-    case calib::CameraKind::kMock:
+    case drivers::CameraKind::kMock:
       how = "give it the id mock:" + calibrated;
       break;
-    case calib::CameraKind::kRtp:
+    case drivers::CameraKind::kRtp:
       how = "make the sender send " + calibrated;
       break;
-    case calib::CameraKind::kReplay:
+    case drivers::CameraKind::kReplay:
       how = "replay pictures of " + calibrated;
       break;
   }
@@ -124,7 +125,7 @@ void add_cameras(StationParts& p, const StationConfig& config) {
         }
         device = std::make_unique<drivers::RtpCamera>(std::move(rc));
       } else {
-        device = calib::make_camera_source(cc.id);
+        device = drivers::make_camera_source(cc.id, calib::load_replay_images);
       }
     } catch (const std::exception& e) {
       p.report.missing("camera", label, e.what(), cc.optional);
@@ -167,7 +168,7 @@ void add_cameras(StationParts& p, const StationConfig& config) {
           ", calibration: from the stream (none yet: not shown until its sender's arrives)";
     else
       calibration = ", calibration: from file " + cc.calibration_file +
-                    (calib::camera_kind(cc.id) == calib::CameraKind::kRtp
+                    (drivers::camera_kind(cc.id) == drivers::CameraKind::kRtp
                          ? " (a calibration in the stream replaces it, with a warning when they "
                            "differ by more than 0.5 px)"
                          : "") +

@@ -15,8 +15,8 @@
 #include <string>
 #include <thread>
 
-#include "calib/camera_factory.h"
 #include "core/allocation_counter.h"
+#include "drivers/camera_factory.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "render/compositor/cpu_compositor.h"
 #include "render/gl/gl_compositor.h"
@@ -472,7 +472,7 @@ int run_station(const RunOptions& o) {
     std::fprintf(stderr, "hybrid-station run: %s\n", e.what());
     rc = 1;
   }
-  calib::shutdown_camera_drivers();
+  drivers::shutdown_camera_drivers();
   return rc;
 }
 
