@@ -1,7 +1,6 @@
 #include "render/lens/cpu_predistorter.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -378,35 +377,13 @@ bool sizes_fit(const LensWarp& w, const ImageRgba8& eyes, const ImageRgba8& pane
          panel.data.size() >= static_cast<std::size_t>(panel.stride_bytes) * panel.height;
 }
 
-// Spin this long for the worker's band before sleeping on the atomic: the two bands take about
-// the same time, so the wait is short, and a futex wake-up can cost tens of microseconds.
-constexpr auto kSpin = std::chrono::microseconds(200);
-
-// Waits until `a` != `old` (spinning for at most kSpin first); returns the new value.
-template <typename T>
-T wait_change(const std::atomic<T>& a, T old, bool spin) {
-  T v = a.load(std::memory_order_acquire);
-  if (spin && v == old) {
-    const auto until = std::chrono::steady_clock::now() + kSpin;
-    for (int i = 0; v == old; ++i) {
-#if defined(__x86_64__)
-      _mm_pause();
-#endif
-      v = a.load(std::memory_order_acquire);
-      if ((i & 63) == 63 && std::chrono::steady_clock::now() > until) break;
-    }
-  }
-  while (v == old) {
-    a.wait(old, std::memory_order_acquire);
-    v = a.load(std::memory_order_acquire);
-  }
-  return v;
-}
-
 }  // namespace
 
 CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, Simd simd, Method method)
-    : warp_(warp), method_(method), threads_(std::clamp(threads, 1, 2)) {
+    : warp_(warp),
+      method_(method),
+      threads_(std::clamp(threads, 1, 2)),
+      rows_(threads_, RowWorker::Split::kClaimed, kRowsPerTake, /*spin=*/true) {
 #if HD_LENS_AVX2
   if (simd != Simd::kNone && cpu_has_avx2()) simd_ = Simd::kAvx2;
   if (simd == Simd::kBest && method_ == Method::kRadial && cpu_has_avx512()) simd_ = Simd::kAvx512;
@@ -488,57 +465,16 @@ CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, Simd simd, M
         }
       }
   }
-  if (threads_ == 2) worker_ = std::thread([this] { worker_loop(); });
 }
 
-CpuPredistorter::~CpuPredistorter() {
-  if (worker_.joinable()) {
-    quit_.store(true);
-    job_.fetch_add(1, std::memory_order_release);
-    job_.notify_one();
-    worker_.join();
-  }
-}
-
-void CpuPredistorter::worker_loop() {
-  uint64_t seen = 0;
-  for (;;) {
-    // Frames come a display period apart: sleep on the atomic rather than spin between them.
-    seen = wait_change(job_, seen, false);
-    if (quit_.load()) return;
-    take_rows();
-  }
-}
-
-void CpuPredistorter::take_rows() {
-  const int h = warp_.panel_height();
-  for (;;) {
-    // acq_rel: a successful claim sees the frame apply() published before resetting next_row_.
-    const int r = next_row_.fetch_add(kRowsPerTake, std::memory_order_acq_rel);
-    if (r >= h) return;
-    const int end = std::min(h, r + kRowsPerTake);
-    band(r, end);
-    if (rows_done_.fetch_add(end - r, std::memory_order_acq_rel) + (end - r) == h)
-      rows_done_.notify_one();
-  }
-}
+CpuPredistorter::~CpuPredistorter() = default;
 
 bool CpuPredistorter::apply(const ImageRgba8& eyes, ImageRgba8& panel) {
   if (!sizes_fit(warp_, eyes, panel)) return false;
   eyes_ = &eyes;
   panel_ = &panel;
-  const int h = warp_.panel_height();
-  if (threads_ == 2 && h >= 2) {
-    rows_done_.store(0, std::memory_order_relaxed);
-    next_row_.store(0, std::memory_order_release);
-    job_.fetch_add(1, std::memory_order_release);
-    job_.notify_one();
-    take_rows();
-    for (int d = rows_done_.load(std::memory_order_acquire); d != h;)
-      d = wait_change(rows_done_, d, true);
-  } else {
-    band(0, h);
-  }
+  auto rows = [this](int row_begin, int row_end, int) { band(row_begin, row_end); };
+  rows_.run(warp_.panel_height(), rows);
   eyes_ = nullptr;
   panel_ = nullptr;
   return true;
