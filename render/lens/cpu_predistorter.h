@@ -1,5 +1,7 @@
 #pragma once
 // The CPU pre-distortion pass: both eyes warped through the inverse lens model into the panel.
+// The sampler every row kernel matches is lens_sampler.h; the SIMD row kernels are
+// predistort_kernels.h.
 
 #include <cstdint>
 #include <vector>
