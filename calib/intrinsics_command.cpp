@@ -5,7 +5,6 @@
 
 #include "calib/atomic_file.h"
 #include "calib/calibration_file.h"
-#include "calib/camera_factory.h"
 #include "calib/commands.h"
 #include "calib/corner_detector.h"
 #include "calib/image_file.h"
@@ -13,6 +12,7 @@
 #include "calib/intrinsics_assessment.h"
 #include "calib/larger_board_probe.h"
 #include "calib/live_capture.h"
+#include "calib/replay_images.h"
 #include "calib/report_image.h"
 
 namespace hd::calib {
@@ -87,7 +87,7 @@ int run_live(const Args& a, const Board& board, const DistortionModel& model) {
   }
   std::unique_ptr<drivers::CameraSource> cam;
   try {
-    cam = make_camera_source(a.camera);
+    cam = drivers::make_camera_source(a.camera, load_replay_images);
     cam->open();
     cam->start();
   } catch (const std::exception& e) {
@@ -164,7 +164,7 @@ int run(const Args& a) {
   }
   if (!a.camera.empty()) {
     const int code = run_live(a, board, model);
-    shutdown_camera_drivers();
+    drivers::shutdown_camera_drivers();
     return code;
   }
   const double cpu_start = process_cpu_s();

@@ -8,12 +8,12 @@
 
 #include "calib/atomic_file.h"
 #include "calib/calibration_file.h"
-#include "calib/camera_factory.h"
 #include "calib/commands.h"
 #include "calib/corner_detector.h"
 #include "calib/image_set.h"
 #include "calib/intrinsics_calibration.h"
 #include "calib/live_capture.h"
+#include "calib/replay_images.h"
 #include "core/opencv_pixels.h"
 
 namespace hd::calib {
@@ -23,7 +23,8 @@ namespace {
 struct Args {
   std::string images, left_pattern = "left*", right_pattern = "right*", board, out_left, out_right,
                       model = "5";
-  std::string left_camera, right_camera;  ///< live: camera ids as camera_factory.h takes them
+  std::string left_camera,
+      right_camera;  ///< live: camera ids as drivers/camera_factory.h takes them
   double square_m = 0;
   bool force = false;
   int frames = 600;              ///< live: stop after this many pairs looked at
@@ -213,7 +214,7 @@ int run_live(const Args& a, const Board& board, const DistortionModel& model) {
   std::unique_ptr<drivers::CameraSource> cams[2];
   for (int s = 0; s < 2; ++s) {
     try {
-      cams[s] = make_camera_source(ids[s]);
+      cams[s] = drivers::make_camera_source(ids[s], load_replay_images);
       cams[s]->open();
       cams[s]->start();
     } catch (const std::exception& e) {
@@ -319,7 +320,7 @@ int run(const Args& a) {
   }
   if (a.images.empty()) {
     const int code = run_live(a, board, model);
-    shutdown_camera_drivers();
+    drivers::shutdown_camera_drivers();
     return code;
   }
   return run_files(a, board, model);

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/scene/config_error.h"
+#include "core/config/config_error.h"
 
 namespace hd::sim {
 
@@ -38,7 +38,8 @@ render::ImageRgba8 image_texture(const SceneTexture& t, double shade,
                                  const std::string& scene_file) {
   const cv::Mat bgr = cv::imread(t.image_path, cv::IMREAD_COLOR);
   if (bgr.empty()) {
-    throw ConfigError(scene_file, 0, 0, "texture.file", "cannot read image '" + t.image_path + "'");
+    throw config::ConfigError(scene_file, 0, 0, "texture.file",
+                              "cannot read image '" + t.image_path + "'");
   }
   cv::Mat rgba;
   cv::cvtColor(bgr, rgba, cv::COLOR_BGR2RGBA);

@@ -38,8 +38,8 @@ class SimEpoch;           // sim/sim_epoch.h
 
 class Simulation {
  public:
-  /// Builds textures, meshes and devices (not started). Throws ConfigError (a texture file that
-  /// cannot be read) or std::invalid_argument for a scene load_scene() would not produce.
+  /// Builds textures, meshes and devices (not started). Throws config::ConfigError (a texture file
+  /// that cannot be read) or std::invalid_argument for a scene load_scene() would not produce.
   explicit Simulation(Scene scene);
   ~Simulation();
   Simulation(const Simulation&) = delete;

@@ -7,7 +7,9 @@
 #include <thread>
 #include <vector>
 
-#include "calib/camera_factory.h"
+#include "calib/replay_images.h"
+#include "core/config/config_error.h"
+#include "drivers/camera_factory.h"
 #include "drivers/camera_format.h"
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/rtp_calibration.h"
@@ -15,7 +17,6 @@
 #include "remote/app/remote_config.h"
 #include "remote/sender/h264_encoder.h"
 #include "remote/sender/rtp_sender.h"
-#include "sim/scene/config_error.h"
 
 namespace hd::remote {
 
@@ -23,7 +24,7 @@ int run_config(const std::string& config_file, double seconds, const std::atomic
   RemoteConfig config;
   try {
     config = load_remote_config(config_file);
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     std::fprintf(stderr, "hybrid-remote: %s\n", e.what());
     return 2;
   }
@@ -53,7 +54,7 @@ int run_config(const std::string& config_file, double seconds, const std::atomic
     drivers::FormatNegotiation got;
     const drivers::CameraFormatRequest want{cc.p_c.width, cc.p_c.height, {}, cc.rate_hz};
     try {
-      cam = calib::make_camera_source(cc.id);
+      cam = drivers::make_camera_source(cc.id, calib::load_replay_images);
       got = cam->negotiate(want);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "hybrid-remote: camera %s: MISSING: %s\n", label.c_str(), e.what());
@@ -133,7 +134,7 @@ int run_config(const std::string& config_file, double seconds, const std::atomic
     senders[i]->stop();
   }
   cameras.clear();
-  calib::shutdown_camera_drivers();
+  drivers::shutdown_camera_drivers();
   return 0;
 }
 

@@ -13,13 +13,13 @@
 #include <thread>
 #include <vector>
 
+#include "core/config/config_error.h"
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/rtp_calibration.h"
 #include "drivers/rtp/rtp_uri.h"
 #include "drivers/rtp/srtp_key.h"
 #include "remote/app/config_run.h"
 #include "remote/sender/rtp_sender.h"
-#include "sim/scene/config_error.h"
 #include "sim/scene/scene_file.h"
 #include "sim/scene_epoch.h"
 #include "sim/simulation.h"

@@ -1,15 +1,15 @@
 #include "remote/app/remote_config.h"
 
 #include "calib/calibration_file.h"
+#include "core/config/yaml_fields.h"
 #include "drivers/rtp/srtp_key.h"
 #include "remote/sender/h264_encoder.h"
-#include "sim/scene/yaml_fields.h"
 
 namespace hd::remote {
 namespace {
 
-using sim::Range;
-using sim::YamlFields;
+using config::Range;
+using config::YamlFields;
 
 RemoteCameraConfig read_camera(const YamlFields& f, std::size_t index, const RemoteConfig& all,
                                int bitrate_kbps, double key_interval_s) {
@@ -79,11 +79,11 @@ RemoteConfig read_remote(const YamlFields& root) {
 }  // namespace
 
 RemoteConfig load_remote_config(const std::string& path) {
-  return read_remote(sim::load_yaml_fields(path));
+  return read_remote(config::load_yaml_fields(path));
 }
 
 RemoteConfig parse_remote_config(const std::string& text, const std::string& name) {
-  return read_remote(YamlFields(sim::parse_yaml(text, name), name));
+  return read_remote(YamlFields(config::parse_yaml(text, name), name));
 }
 
 }  // namespace hd::remote

@@ -36,7 +36,7 @@ struct RemoteConfig {
 
 /// Reads and checks `path`. Any mistake -- YAML syntax, a missing or unknown key, a wrong type,
 /// a value out of range, a malformed or repeated destination, an unreadable calibration file or
-/// one without a pose, a key file others may read -- throws sim::ConfigError naming the file,
+/// one without a pose, a key file others may read -- throws config::ConfigError naming the file,
 /// line:column, field and value.
 RemoteConfig load_remote_config(const std::string& path);
 /// The same from text; `name` stands for the file, relative paths resolve against its directory.

@@ -51,18 +51,10 @@ const SyntheticScene& empty_scene() {
 
 }  // namespace
 
-CpuCompositor::CpuCompositor(int threads) : threads_(std::clamp(threads, 1, 2)) {
-  if (threads_ == 2) worker_ = std::thread([this] { worker_loop(); });
-}
+CpuCompositor::CpuCompositor(int threads)
+    : threads_(std::clamp(threads, 1, 2)), rows_(threads_, RowWorker::Split::kHalves) {}
 
-CpuCompositor::~CpuCompositor() {
-  if (worker_.joinable()) {
-    quit_.store(true);
-    job_.fetch_add(1);
-    job_.notify_one();
-    worker_.join();
-  }
-}
+CpuCompositor::~CpuCompositor() = default;
 
 void CpuCompositor::set_lens(const lens::LensWarp* warp) {
   lens_.reset();
@@ -71,18 +63,6 @@ void CpuCompositor::set_lens(const lens::LensWarp* warp) {
 
 void CpuCompositor::predistort(const ImageRgba8& eyes, ImageRgba8& panel) {
   if (lens_ && !lens_->apply(eyes, panel)) ++stats_.requests_rejected;
-}
-
-void CpuCompositor::worker_loop() {
-  uint64_t seen = 0;
-  for (;;) {
-    job_.wait(seen);
-    seen = job_.load();
-    if (quit_.load()) return;
-    draw_band(worker_row_begin_, worker_row_end_);
-    done_.store(seen);
-    done_.notify_one();
-  }
 }
 
 void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
@@ -113,23 +93,16 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   }
   rasterizer_.prepare(*scene_, req.eye, req.T_world_eye, req.near_m, req.far_m);
 
-  const int h = req.viewport.height;
-  if (threads_ == 2 && h >= 2) {
-    worker_row_begin_ = h / 2;
-    worker_row_end_ = h;
-    const uint64_t my_job = job_.fetch_add(1) + 1;
-    job_.notify_one();
-    draw_band(0, h / 2);
-    for (uint64_t d = done_.load(); d != my_job; d = done_.load()) done_.wait(d);
-  } else {
-    draw_band(0, h);
-  }
+  auto band = [this](int row_begin, int row_end, int thread) {
+    draw_band(row_begin, row_end, thread);
+  };
+  rows_.run(req.viewport.height, band);
   ++stats_.frames_drawn;
   req_ = nullptr;
   out_ = nullptr;
 }
 
-void CpuCompositor::draw_band(int row_begin, int row_end) {
+void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
   const CompositeRequest& req = *req_;
   const int W = req.viewport.width;
   std::fill(inv_depth_.begin() + static_cast<long>(row_begin) * W,
@@ -167,7 +140,7 @@ void CpuCompositor::draw_band(int row_begin, int row_end) {
 
   // Per-thread scratch for kRowGroup rows: where each pixel samples the frame, with what weight,
   // the 1/256 px texel positions and the texel.
-  const std::size_t band = row_begin == 0 ? 0 : 1;
+  const std::size_t band = static_cast<std::size_t>(band_index);
   const std::size_t group = kRowGroup * static_cast<std::size_t>(W);
   float* su_group = scratch_.data() + band * 3 * group;
   float* sv_group = su_group + group;

@@ -1,15 +1,14 @@
 #pragma once
 // The CPU reference compositor: the ground truth the GL compositor is tested against.
 
-#include <atomic>
 #include <cstdint>
 #include <memory>
-#include <thread>
 #include <vector>
 
 #include "render/compositor/compositor.h"
 #include "render/compositor/mesh_rasterizer.h"
 #include "render/compositor/video_warp.h"
+#include "render/cpu/row_worker.h"
 #include "render/lens/cpu_predistorter.h"
 #include "render/overlay/overlay_painter.h"
 
@@ -20,8 +19,8 @@ namespace hd::render {
 ///
 /// Speed (see docs/rendering.md): the homography is stepped incrementally along a row, the video
 /// is sampled with 8-bit fixed-point bilinear weights, and with threads = 2 the rows are split
-/// into two bands, one drawn by a persistent worker thread that waits on an atomic (no lock, no
-/// allocation per frame).
+/// into two bands, the lower one drawn by a persistent worker thread (RowWorker's kHalves: it
+/// waits on an atomic, no lock, no allocation per frame).
 class CpuCompositor final : public Compositor {
  public:
   explicit CpuCompositor(int threads = 1);
@@ -40,8 +39,8 @@ class CpuCompositor final : public Compositor {
 
  private:
   struct Frame;  // per-draw constants shared by the bands
-  void draw_band(int row_begin, int row_end);
-  void worker_loop();
+  /// Rows [row_begin, row_end) with band `band`'s scratch (0: the caller's, 1: the worker's).
+  void draw_band(int row_begin, int row_end, int band);
 
   MeshRasterizer rasterizer_;
   std::vector<uint8_t> synth_rgba_;  ///< viewport-sized synthetic colour
@@ -60,12 +59,7 @@ class CpuCompositor final : public Compositor {
   std::unique_ptr<lens::CpuPredistorter> lens_;
 
   int threads_ = 1;
-  std::thread worker_;
-  std::atomic<uint64_t> job_{0};   ///< incremented to start the worker's band
-  std::atomic<uint64_t> done_{0};  ///< set to job_ when the worker's band is finished
-  std::atomic<bool> quit_{false};
-  int worker_row_begin_ = 0;
-  int worker_row_end_ = 0;
+  RowWorker rows_;  ///< last: its thread stops before the members it draws with go
 };
 
 }  // namespace hd::render

@@ -9,53 +9,12 @@
 
 #include "render/compositor/request_check.h"
 #include "render/compositor/video_warp.h"
+#include "render/gl/gl_program.h"
 #include "render/gl/shader_sources.h"  // generated from render/gl/shaders/
-#include "render/lens/lens_warp.h"
 
 namespace hd::render {
 
 namespace {
-
-GLuint compile(GLenum type, const char* source, const char* name) {
-  const GLuint shader = glCreateShader(type);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    glDeleteShader(shader);
-    throw std::runtime_error(std::string("GL compositor: shader ") + name + " failed: " + log);
-  }
-  return shader;
-}
-
-gl::Program link(const char* vs, const char* fs, const char* name) {
-  gl::Program program = gl::Program::create();
-  const GLuint v = compile(GL_VERTEX_SHADER, vs, name);
-  GLuint f = 0;
-  try {
-    f = compile(GL_FRAGMENT_SHADER, fs, name);
-  } catch (...) {
-    glDeleteShader(v);
-    throw;
-  }
-  glAttachShader(program.get(), v);
-  glAttachShader(program.get(), f);
-  glLinkProgram(program.get());
-  glDeleteShader(v);  // flagged; freed with the program
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(program.get(), GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {};
-    glGetProgramInfoLog(program.get(), sizeof log, nullptr, log);
-    throw std::runtime_error(std::string("GL compositor: program ") + name +
-                             " link failed: " + log);
-  }
-  return program;
-}
 
 void set_sampling(GLenum target) {
   glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -83,8 +42,9 @@ GlCompositor::GlCompositor(const gl::WindowOptions& options)
     throw std::runtime_error("GL compositor: got OpenGL " + std::to_string(major) + "." +
                              std::to_string(minor) + ", need a 3.3 core context");
   }
-  mesh_program_ = link(shaders::kMeshVert, shaders::kMeshFrag, "mesh");
-  composite_program_ = link(shaders::kFullScreenVert, shaders::kCompositeFrag, "composite");
+  mesh_program_ = gl::link_program(shaders::kMeshVert, shaders::kMeshFrag, "mesh");
+  composite_program_ =
+      gl::link_program(shaders::kFullScreenVert, shaders::kCompositeFrag, "composite");
   empty_vao_ = gl::VertexArray::create();
   u_world_to_clip_ = glGetUniformLocation(mesh_program_.get(), "world_to_clip");
   glUseProgram(mesh_program_.get());
@@ -103,8 +63,8 @@ GlCompositor::GlCompositor(const gl::WindowOptions& options)
   glBindTexture(GL_TEXTURE_2D, video_texture_.get());
   set_sampling(GL_TEXTURE_2D);
 
-  lines_program_ = link(shaders::kLinesVert, shaders::kLinesFrag, "overlay lines");
-  hud_program_ = link(shaders::kHudVert, shaders::kHudFrag, "overlay hud");
+  lines_program_ = gl::link_program(shaders::kLinesVert, shaders::kLinesFrag, "overlay lines");
+  hud_program_ = gl::link_program(shaders::kHudVert, shaders::kHudFrag, "overlay hud");
   u_lines_target_ = glGetUniformLocation(lines_program_.get(), "target");
   u_hud_origin_ = glGetUniformLocation(hud_program_.get(), "origin");
   u_hud_size_ = glGetUniformLocation(hud_program_.get(), "size");
@@ -402,193 +362,6 @@ void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   ++stats_.frames_drawn;
 }
 
-void GlCompositor::draw_overlay(const Overlay& overlay, const Viewport& vp, ImageRgba8& out) {
-  if (overlay.empty() || target_w_ <= 0 || out.width != target_w_ || out.height != target_h_ ||
-      vp.width <= 0 || vp.height <= 0 || vp.x < 0 || vp.y < 0 || vp.x + vp.width > out.width ||
-      vp.y + vp.height > out.height)
-    return;
-  window_->make_current();
-  OverlaySegments segs;
-  overlay_geometry(overlay, vp, segs);
-  glBindFramebuffer(GL_FRAMEBUFFER, final_fbo_.get());
-  glViewport(0, 0, target_w_, target_h_);
-  glEnable(GL_SCISSOR_TEST);
-  glScissor(vp.x, vp.y, vp.width, vp.height);
-  const float tw = static_cast<float>(target_w_), th = static_cast<float>(target_h_);
-  if (segs.count > 0) {
-    std::size_t k = 0;
-    for (int i = 0; i < segs.count; ++i) {
-      const OverlaySegment& s = segs.segment[static_cast<std::size_t>(i)];
-      for (const Eigen::Vector2d& p : {s.a, s.b}) {
-        line_vertices_[k++] = static_cast<float>(p.x());
-        line_vertices_[k++] = static_cast<float>(p.y());
-        for (int c = 0; c < 3; ++c)
-          line_vertices_[k++] = s.rgb[static_cast<std::size_t>(c)] / 255.0f;
-      }
-    }
-    glBindBuffer(GL_ARRAY_BUFFER, lines_vbo_.get());
-    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(k * sizeof(float)),
-                    line_vertices_.data());
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
-    glUseProgram(lines_program_.get());
-    glUniform2f(u_lines_target_, tw, th);
-    glBindVertexArray(lines_vao_.get());
-    glDrawArrays(GL_LINES, 0, 2 * segs.count);
-  }
-  if (overlay.draws_hud()) {
-    const ImageRgba8& strip = overlay.hud->image();
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, hud_texture_.get());
-    // The texture holds the strip's every line, so a change of line count re-uploads only.
-    const int cap_h = overlay.hud->capacity_height();
-    if (hud_uploaded_ != overlay.hud || hud_revision_ != overlay.hud->revision() ||
-        hud_w_ != strip.width || hud_h_ != cap_h) {
-      glPixelStorei(GL_UNPACK_ROW_LENGTH, strip.stride_bytes / 4);
-      if (hud_w_ != strip.width || hud_h_ != cap_h) {
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, strip.width, cap_h, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                     nullptr);
-        hud_w_ = strip.width;
-        hud_h_ = cap_h;
-      }
-      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, strip.width, strip.height, GL_RGBA, GL_UNSIGNED_BYTE,
-                      strip.data.data());
-      glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-      hud_uploaded_ = overlay.hud;
-      hud_revision_ = overlay.hud->revision();
-      ++hud_uploads_;
-    }
-    glEnable(GL_BLEND);
-    // Colour: strip over picture by the strip's alpha; the picture's alpha stays.
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    glUseProgram(hud_program_.get());
-    glUniform2f(u_hud_origin_, static_cast<float>(vp.x), static_cast<float>(vp.y));
-    glUniform2f(u_hud_size_, static_cast<float>(std::min(strip.width, vp.width)),
-                static_cast<float>(std::min(strip.height, vp.height)));
-    glUniform2f(u_hud_target_, tw, th);
-    glBindVertexArray(empty_vao_.get());
-    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-    glDisable(GL_BLEND);
-  }
-  glBindVertexArray(0);
-  glUseProgram(0);
-  glDisable(GL_SCISSOR_TEST);
-  if (last_read_back_) {
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, final_fbo_.get());
-    glPixelStorei(GL_PACK_ROW_LENGTH, out.stride_bytes / 4);
-    glReadPixels(vp.x, vp.y, vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, out.pixel(vp.x, vp.y));
-    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-}
-
-void GlCompositor::set_lens(const lens::LensWarp* warp) {
-  window_->make_current();
-  lens_ = warp;
-  lens_index_count_ = 0;
-  if (!warp) return;
-  if (!lens_program_) {
-    lens_program_ = link(shaders::kLensVert, shaders::kLensFrag, "lens");
-    glUseProgram(lens_program_.get());
-    glUniform1i(glGetUniformLocation(lens_program_.get(), "eyes"), 0);
-    glUseProgram(0);
-  }
-  // Exact per fragment: two triangles per eye carry the eye index only.
-  const int step = lens_mesh_step_px_ > 0 ? lens_mesh_step_px_ : 1 << 20;
-  const int hw = warp->eye_panel_width(), h = warp->panel_height();
-  std::vector<int> xs, ys;
-  for (int x = 0; x < hw; x += step) xs.push_back(x);
-  xs.push_back(hw);
-  for (int y = 0; y < h; y += step) ys.push_back(y);
-  ys.push_back(h);
-  std::vector<float> vertices;
-  std::vector<GLuint> indices;
-  for (int e = 0; e < 2; ++e) {
-    const GLuint first = static_cast<GLuint>(vertices.size() / 5);
-    for (int y : ys)
-      for (int x : xs) {
-        double u = 0, v = 0;
-        warp->source_unclamped(e, x, y, 1, &u, &v);
-        for (double value :
-             {double(x + e * hw), double(y), u + e * warp->eye_width(), v, double(e)})
-          vertices.push_back(static_cast<float>(value));
-      }
-    const GLuint nx = static_cast<GLuint>(xs.size());
-    for (GLuint j = 0; j + 1 < ys.size(); ++j)
-      for (GLuint i = 0; i + 1 < nx; ++i) {
-        const GLuint a = first + j * nx + i, b = a + 1, c = a + nx, d = c + 1;
-        for (GLuint k : {a, b, c, b, d, c}) indices.push_back(k);
-      }
-  }
-  lens_vao_ = gl::VertexArray::create();
-  lens_vbo_ = gl::Buffer::create();
-  lens_ibo_ = gl::Buffer::create();
-  glBindVertexArray(lens_vao_.get());
-  glBindBuffer(GL_ARRAY_BUFFER, lens_vbo_.get());
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
-               vertices.data(), GL_STATIC_DRAW);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, lens_ibo_.get());
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)),
-               indices.data(), GL_STATIC_DRAW);
-  const GLsizei stride = 5 * sizeof(float);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride,
-                        reinterpret_cast<const void*>(2 * sizeof(float)));
-  glEnableVertexAttribArray(2);
-  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride,
-                        reinterpret_cast<const void*>(4 * sizeof(float)));
-  glBindVertexArray(0);
-  glBindBuffer(GL_ARRAY_BUFFER, 0);
-  lens_index_count_ = static_cast<int>(indices.size());
-
-  panel_w_ = warp->panel_width();
-  panel_h_ = warp->panel_height();
-  panel_colour_ = gl::Texture::create();
-  glBindTexture(GL_TEXTURE_2D, panel_colour_.get());
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, panel_w_, panel_h_, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-               nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
-  panel_fbo_ = gl::Framebuffer::create();
-  glBindFramebuffer(GL_FRAMEBUFFER, panel_fbo_.get());
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, panel_colour_.get(),
-                         0);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-
-  // Uniforms fixed by the profile.
-  const lens::HmdProfile& prof = warp->profile();
-  const GLuint l = lens_program_.get();
-  glUseProgram(l);
-  glUniform2f(glGetUniformLocation(l, "panel_size"), static_cast<float>(panel_w_),
-              static_cast<float>(panel_h_));
-  glUniform2f(glGetUniformLocation(l, "eyes_size"), static_cast<float>(2 * warp->eye_width()),
-              static_cast<float>(warp->eye_height()));
-  const float centre[4] = {static_cast<float>(warp->eye(0).cx), static_cast<float>(warp->eye(0).cy),
-                           static_cast<float>(warp->eye(1).cx + warp->eye_width()),
-                           static_cast<float>(warp->eye(1).cy)};
-  glUniform2fv(glGetUniformLocation(l, "centre"), 2, centre);
-  float lens_px[4];
-  for (int e = 0; e < 2; ++e) {
-    lens_px[2 * e] = static_cast<float>(prof.lens_centre_m[e].x() / prof.pitch_x_m() + e * hw);
-    lens_px[2 * e + 1] = static_cast<float>(prof.lens_centre_m[e].y() / prof.pitch_y_m());
-  }
-  glUniform2fv(glGetUniformLocation(l, "lens_px"), 2, lens_px);
-  glUniform2f(glGetUniformLocation(l, "inv_unit_px"),
-              static_cast<float>(prof.pitch_x_m() / prof.r_unit_m.x()),
-              static_cast<float>(prof.pitch_y_m() / prof.r_unit_m.y()));
-  glUniform1f(glGetUniformLocation(l, "max_radius"), static_cast<float>(prof.max_radius));
-  glUniform3f(glGetUniformLocation(l, "scale"), static_cast<float>(warp->channel_scale(0)), 1.0f,
-              static_cast<float>(warp->channel_scale(2)));
-  glUniform1f(glGetUniformLocation(l, "eye_w"), static_cast<float>(warp->eye_width()));
-  glUniform1i(glGetUniformLocation(l, "exact"), lens_mesh_step_px_ == 0 ? 1 : 0);
-  float k[12] = {};
-  const std::size_t nk = std::min<std::size_t>(12, prof.coefficients.size());
-  for (std::size_t i = 0; i < nk; ++i) k[i] = static_cast<float>(prof.coefficients[i]);
-  glUniform1fv(glGetUniformLocation(l, "k"), 12, k);
-  glUniform1i(glGetUniformLocation(l, "k_count"), static_cast<int>(nk));
-  glUseProgram(0);
-}
-
 void GlCompositor::load_picture(const ImageRgba8& picture) {
   window_->make_current();
   ensure_targets(picture.width, picture.height);
@@ -598,40 +371,6 @@ void GlCompositor::load_picture(const ImageRgba8& picture) {
                   picture.data.data());
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   last_read_back_ = true;
-}
-
-void GlCompositor::predistort(const ImageRgba8& eyes, ImageRgba8& panel) {
-  if (!lens_ || lens_index_count_ == 0) return;
-  if (target_w_ < 2 * lens_->eye_width() || target_h_ < lens_->eye_height() ||
-      eyes.width != target_w_ ||
-      (last_read_back_ && (panel.width != panel_w_ || panel.height != panel_h_))) {
-    ++stats_.requests_rejected;
-    return;
-  }
-  window_->make_current();
-  glBindFramebuffer(GL_FRAMEBUFFER, panel_fbo_.get());
-  glViewport(0, 0, panel_w_, panel_h_);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_BLEND);
-  glUseProgram(lens_program_.get());
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, final_colour_.get());
-  // The composited eyes are sampled bilinearly here (the compositing passes only fetch texels).
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glBindVertexArray(lens_vao_.get());
-  glDrawElements(GL_TRIANGLES, lens_index_count_, GL_UNSIGNED_INT, nullptr);
-  glBindVertexArray(0);
-  glUseProgram(0);
-  if (last_read_back_) {
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, panel_fbo_.get());
-    glPixelStorei(GL_PACK_ROW_LENGTH, panel.stride_bytes / 4);
-    glReadPixels(0, 0, panel_w_, panel_h_, GL_RGBA, GL_UNSIGNED_BYTE, panel.data.data());
-    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 void GlCompositor::present() {

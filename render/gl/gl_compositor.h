@@ -1,5 +1,7 @@
 #pragma once
-// The OpenGL 3.3 core compositor: the CPU reference's picture, drawn by shaders.
+// The OpenGL 3.3 core compositor: the CPU reference's picture, drawn by shaders. Defined in
+// gl_compositor.cpp (targets, uploads, the compositing passes, present), gl_compositor_overlay.cpp
+// (the overlay pass) and gl_compositor_lens.cpp (the lens pass); programs via gl_program.h.
 
 #include <array>
 #include <cstdint>

@@ -1,12 +1,13 @@
 #pragma once
 // The CPU pre-distortion pass: both eyes warped through the inverse lens model into the panel.
+// The sampler every row kernel matches is lens_sampler.h; the SIMD row kernels are
+// predistort_kernels.h.
 
-#include <atomic>
 #include <cstdint>
-#include <thread>
 #include <vector>
 
 #include "render/compositor/image_rgba8.h"
+#include "render/cpu/row_worker.h"
 #include "render/lens/lens_warp.h"
 
 namespace hd::render::lens {
@@ -31,9 +32,10 @@ namespace hd::render::lens {
 ///    fixed point.
 ///
 /// apply() allocates nothing; with threads = 2 the caller and a persistent worker (woken through
-/// an atomic) claim rows four at a time from a shared counter, so the work splits evenly whatever
-/// the rows cost and however late the worker wakes (or, on a busy machine, the caller does them
-/// all); the caller spins briefly for the last rows before it sleeps on the atomic.
+/// an atomic) claim rows four at a time from a shared counter (RowWorker's kClaimed), so the work
+/// splits evenly whatever the rows cost and however late the worker wakes (or, on a busy machine,
+/// the caller does them all); the caller spins briefly for the last rows before it sleeps on the
+/// atomic.
 class CpuPredistorter {
  public:
   enum class Method { kRadial, kPositionTable };
@@ -89,10 +91,7 @@ class CpuPredistorter {
   void radial_points(int y, int eye, int x_half, float* X, float* Y) const;
   void radial_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
   void table_span_scalar(int y, int eye, int x, int end, uint32_t* out) const;
-  void worker_loop();
-  /// Claims kRowsPerTake rows at a time from next_row_ until none are left (both threads).
-  void take_rows();
-  static constexpr int kRowsPerTake = 4;
+  static constexpr int kRowsPerTake = 4;  ///< rows a thread claims at a time
 
   LensWarp warp_;
   Method method_ = Method::kRadial;
@@ -113,12 +112,7 @@ class CpuPredistorter {
 
   Simd simd_ = Simd::kNone;
   int threads_ = 1;
-  std::thread worker_;
-  // Each on its own cache line: both threads claim rows and count them done at the same time.
-  alignas(64) std::atomic<uint64_t> job_{0};
-  alignas(64) std::atomic<int> next_row_{1 << 30};  ///< nothing to claim outside apply()
-  alignas(64) std::atomic<int> rows_done_{0};
-  alignas(64) std::atomic<bool> quit_{false};
+  RowWorker rows_;  ///< last: its thread stops before the members it draws with go
 };
 
 }  // namespace hd::render::lens

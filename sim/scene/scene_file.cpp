@@ -7,10 +7,15 @@
 #include <stdexcept>
 
 #include "calib/calibration_file.h"
+#include "core/config/yaml_fields.h"
 #include "drivers/mock/trajectory.h"
-#include "sim/scene/yaml_fields.h"
 
 namespace hd::sim {
+
+using config::closest_match;
+using config::ConfigError;
+using config::Range;
+using config::YamlFields;
 
 namespace {
 
@@ -442,11 +447,11 @@ SceneStereoPair read_stereo_pair(const YamlFields& sp,
 }
 
 Scene parse_scene(const std::string& text, const std::string& name) {
-  return read_scene(YamlFields(parse_yaml(text, name), name));
+  return read_scene(YamlFields(config::parse_yaml(text, name), name));
 }
 
 Scene load_scene(const std::string& path) {
-  return read_scene(load_yaml_fields(path));
+  return read_scene(config::load_yaml_fields(path));
 }
 
 }  // namespace hd::sim

@@ -2,8 +2,9 @@
 
 #include <stdexcept>
 
-#include "calib/camera_factory.h"
+#include "calib/replay_images.h"
 #include "core/video_age.h"
+#include "drivers/camera_factory.h"
 #include "drivers/camera_format.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "drivers/rtp/rtp_uri.h"
@@ -24,21 +25,21 @@ std::string format_refusal(const drivers::CameraDescription& d,
   const std::string calibrated = drivers::size_text(d.p_c.width, d.p_c.height);
   const std::string delivered = drivers::size_text(got.delivered.width_px, got.delivered.height_px);
   std::string how = "give it the size " + calibrated;
-  if (!is_simulated(d.id)) switch (calib::camera_kind(d.id)) {
-      case calib::CameraKind::kGige:
+  if (!is_simulated(d.id)) switch (drivers::camera_kind(d.id)) {
+      case drivers::CameraKind::kGige:
         how = "set its region (Width, Height, and binning) so that it delivers " + calibrated;
         break;
-      case calib::CameraKind::kV4l2:
+      case drivers::CameraKind::kV4l2:
         how = "use a camera with a " + calibrated + " mode (v4l2-ctl -d " + d.id +
               " --list-formats-ext lists them)";
         break;
-      case calib::CameraKind::kMock:
+      case drivers::CameraKind::kMock:
         how = "give it the id mock:" + calibrated;
         break;
-      case calib::CameraKind::kRtp:
+      case drivers::CameraKind::kRtp:
         how = "make the sender send " + calibrated;
         break;
-      case calib::CameraKind::kReplay:
+      case drivers::CameraKind::kReplay:
         how = "replay pictures of " + calibrated;
         break;
     }
@@ -87,7 +88,7 @@ OpenedDevice make_device(const drivers::CameraDescription& d, const CameraAssemb
     out.what = "network camera " + rtp->id() + ", ";
     out.owned = std::move(rtp);
   } else {
-    out.owned = calib::make_camera_source(d.id);
+    out.owned = drivers::make_camera_source(d.id, calib::load_replay_images);
   }
   out.source = out.owned.get();
   return out;

@@ -5,19 +5,19 @@
 #include <yaml-cpp/yaml.h>
 
 #include "calib/calibration_file.h"
+#include "core/config/yaml_fields.h"
 #include "render/lens/hmd_profile_file.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/scene_file.h"
-#include "sim/scene/yaml_fields.h"
 
 namespace hd::station {
 namespace {
 
-using sim::Range;
-using sim::YamlFields;
+using config::Range;
+using config::YamlFields;
 
 // `{position_m: [x, y, z], ypr_deg: [yaw, pitch, roll]}`, the scene files' convention.
-core::Pose read_pose(const sim::YamlFields& f) {
+core::Pose read_pose(const config::YamlFields& f) {
   core::Pose p;
   p.t = f.optional_vec3("position_m", Eigen::Vector3d::Zero());
   p.R = sim::rotation_from_ypr_deg(
@@ -26,7 +26,7 @@ core::Pose read_pose(const sim::YamlFields& f) {
   return p;
 }
 
-CameraConfig read_camera(const sim::YamlFields& f, std::size_t index) {
+CameraConfig read_camera(const config::YamlFields& f, std::size_t index) {
   CameraConfig c;
   c.line = f.line();
   c.name = f.optional_string("name", "camera" + std::to_string(index));
@@ -85,7 +85,7 @@ CameraConfig read_camera(const sim::YamlFields& f, std::size_t index) {
   return c;
 }
 
-TrackerConfig read_tracker(const sim::YamlFields& f) {
+TrackerConfig read_tracker(const config::YamlFields& f) {
   TrackerConfig t;
   t.line = f.line();
   t.id = f.required_string("id");
@@ -95,7 +95,7 @@ TrackerConfig read_tracker(const sim::YamlFields& f) {
   return t;
 }
 
-DisplayConfig read_display(const sim::YamlFields& f) {
+DisplayConfig read_display(const config::YamlFields& f) {
   DisplayConfig d;
   d.monitor = f.optional_int("monitor", -1, Range::closed(-1, 16));
   d.fullscreen = f.optional_bool("fullscreen", false);
@@ -126,7 +126,7 @@ DisplayConfig read_display(const sim::YamlFields& f) {
   d.eye.cy = cy;
   if (f.node()["hmd"]) {
     // A name or file (resolved against this file's directory), or the profile inline.
-    const sim::YamlFields h = f.at("hmd");
+    const config::YamlFields h = f.at("hmd");
     try {
       if (h.is_scalar()) {
         const std::string base = std::filesystem::path(f.file()).parent_path().string();
@@ -134,9 +134,10 @@ DisplayConfig read_display(const sim::YamlFields& f) {
       } else {
         d.hmd = render::lens::read_hmd_profile(h.node(), f.file());
       }
-    } catch (const render::lens::HmdProfileError& e) {
+    } catch (const config::ConfigError& e) {
       if (h.is_scalar()) f.fail("hmd", e.what());
-      throw sim::ConfigError(f.file(), e.line(), e.column(), "display.hmd." + e.field(), e.why());
+      throw config::ConfigError(f.file(), e.line(), e.column(), "display.hmd." + e.field(),
+                                e.why());
     }
     if (!d.hmd.neutral && !d.stereo)
       f.fail("hmd", "the HMD profile '" + d.hmd.name + "' needs stereo: true (two eyes)");
@@ -145,7 +146,7 @@ DisplayConfig read_display(const sim::YamlFields& f) {
   return d;
 }
 
-core::TransitionParams read_transition(const sim::YamlFields& f) {
+core::TransitionParams read_transition(const config::YamlFields& f) {
   core::TransitionParams t;
   t.mode = static_cast<core::TransitionMode>(
       f.optional_enum("mode", transition_mode_names(), static_cast<std::size_t>(t.mode)));
@@ -158,7 +159,7 @@ core::TransitionParams read_transition(const sim::YamlFields& f) {
   return t;
 }
 
-core::MarkingParams read_marking(const sim::YamlFields& f) {
+core::MarkingParams read_marking(const config::YamlFields& f) {
   core::MarkingParams m;
   m.style = static_cast<core::MarkingStyle>(
       f.optional_enum("style", marking_style_names(), static_cast<std::size_t>(m.style)));
@@ -183,7 +184,7 @@ core::MarkingParams read_marking(const sim::YamlFields& f) {
   return m;
 }
 
-core::WorkspaceBox read_workspace(const sim::YamlFields& f) {
+core::WorkspaceBox read_workspace(const config::YamlFields& f) {
   core::WorkspaceBox w;
   w.min_m = f.required_vec3("min_m");
   w.max_m = f.required_vec3("max_m");
@@ -192,10 +193,10 @@ core::WorkspaceBox read_workspace(const sim::YamlFields& f) {
   return w;
 }
 
-StationConfig read_station(const sim::YamlFields& root) {
+StationConfig read_station(const config::YamlFields& root) {
   StationConfig s;
   s.file = root.file();
-  const std::vector<sim::YamlFields> cams = root.required_list("cameras", 1);
+  const std::vector<config::YamlFields> cams = root.required_list("cameras", 1);
   for (std::size_t i = 0; i < cams.size(); ++i) s.cameras.push_back(read_camera(cams[i], i));
   s.tracker = read_tracker(root.required_map("tracker"));
   if (auto d = root.optional_map("display")) s.display = read_display(*d);
@@ -214,7 +215,7 @@ StationConfig read_station(const sim::YamlFields& root) {
         m->optional_double("refresh_period_s", s.model.refresh_period_s, Range::positive());
     std::vector<std::string> names;
     for (const CameraConfig& c : s.cameras) names.push_back(c.name);
-    for (const sim::YamlFields& sp : m->optional_list("stereo")) {
+    for (const config::YamlFields& sp : m->optional_list("stereo")) {
       s.model.stereo.push_back(sim::read_stereo_pair(sp, names));
       // A pair's rig is fixed at start, from files.
       for (const std::string& n : {s.model.stereo.back().left, s.model.stereo.back().right})
@@ -255,11 +256,11 @@ const char* marking_style_name(core::MarkingStyle style) {
 }
 
 StationConfig load_station_config(const std::string& path) {
-  return read_station(sim::load_yaml_fields(path));
+  return read_station(config::load_yaml_fields(path));
 }
 
 StationConfig parse_station_config(const std::string& text, const std::string& name) {
-  return read_station(sim::YamlFields(sim::parse_yaml(text, name), name));
+  return read_station(config::YamlFields(config::parse_yaml(text, name), name));
 }
 
 }  // namespace hd::station

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/config/config_error.h"
 #include "core/marking.h"
 #include "core/pinhole.h"
 #include "core/pose.h"
@@ -12,7 +13,6 @@
 #include "core/workspace_box.h"
 #include "drivers/camera_description.h"
 #include "render/lens/hmd_profile.h"
-#include "sim/scene/config_error.h"
 #include "sim/scene/scene.h"
 
 namespace hd::station {
@@ -75,7 +75,7 @@ struct StationConfig {
 
 /// Reads and checks `path`. Any mistake -- YAML syntax, a missing or unknown key, a wrong type,
 /// an out-of-range value, a bad enum, a missing or unreadable calibration file -- throws
-/// sim::ConfigError naming the file, the line and the field.
+/// config::ConfigError naming the file, the line and the field.
 StationConfig load_station_config(const std::string& path);
 
 /// The same from text; `name` stands for the file in messages, relative paths resolve against

@@ -99,8 +99,8 @@ void configure_frame(StationParts& p, DisplayConfig display, core::TransitionPar
   if (!o.hmd.empty()) {
     try {
       display.hmd = render::lens::find_hmd_profile(o.hmd, "");
-    } catch (const render::lens::HmdProfileError& e) {
-      throw sim::ConfigError("--hmd", 0, 0, "", e.what());
+    } catch (const config::ConfigError& e) {
+      throw config::ConfigError("--hmd", 0, 0, "", e.what());
     }
   }
   if (o.mono && !display.hmd.neutral) {

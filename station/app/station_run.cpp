@@ -15,8 +15,8 @@
 #include <string>
 #include <thread>
 
-#include "calib/camera_factory.h"
 #include "core/allocation_counter.h"
+#include "drivers/camera_factory.h"
 #include "render/compositor/cpu_compositor.h"
 #include "render/gl/gl_compositor.h"
 #include "render/latency/latency_recorder.h"
@@ -424,7 +424,7 @@ int run_station(const RunOptions& o) {
   int rc = 1;
   try {
     rc = run(o);
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "hybrid-station run: %s\n", e.what());
     rc = 2;
@@ -433,7 +433,7 @@ int run_station(const RunOptions& o) {
     std::fprintf(stderr, "hybrid-station run: %s\n", e.what());
     rc = 1;
   }
-  calib::shutdown_camera_drivers();
+  drivers::shutdown_camera_drivers();
   return rc;
 }
 

@@ -4,7 +4,6 @@
 
 #include <string>
 
-#include "calib/camera_factory.h"
 #include "test_support.h"
 #include "tests/drivers/gige/fake_gige_camera.h"
 
@@ -16,24 +15,6 @@ using test::run_cli;
 using test::ScratchDir;
 
 const std::string kBoardArgs = "--board 9x6 --square 0.025";
-
-TEST(CameraFactory, ChoosesTheDriverFromTheId) {
-  EXPECT_EQ(camera_kind("/dev/video0"), CameraKind::kV4l2);
-  EXPECT_EQ(camera_kind("/dev/video12"), CameraKind::kV4l2);
-  EXPECT_EQ(camera_kind("mock"), CameraKind::kMock);
-  EXPECT_EQ(camera_kind("mock:320x240"), CameraKind::kMock);
-  EXPECT_EQ(camera_kind("Aravis-Fake-CALIB"), CameraKind::kGige);
-  EXPECT_EQ(camera_kind("192.168.1.20"), CameraKind::kGige);
-  EXPECT_EQ(camera_kind("mockery"), CameraKind::kGige);  // not "mock" nor "mock:"
-  EXPECT_EQ(make_camera_source("/dev/video7")->id(), "/dev/video7");
-  EXPECT_EQ(make_camera_source("Aravis-Fake-CALIB")->id(), "Aravis-Fake-CALIB");
-  EXPECT_EQ(make_camera_source("mock:320x240")->id(), "mock:320x240");
-  EXPECT_EQ(camera_kind("rtp://127.0.0.1:5600"), CameraKind::kRtp);
-  EXPECT_EQ(make_camera_source("rtp://127.0.0.1:5600")->id(), "rtp://127.0.0.1:5600");
-  for (const char* bad : {"mock:", "mock:0x240", "mock:320x", "mock:x240", "mock:32ax240",
-                          "mock:99999x99999", "rtp://127.0.0.1", "rtp://127.0.0.1:5601"})
-    EXPECT_THROW(make_camera_source(bad), std::invalid_argument) << bad;
-}
 
 // The fake camera streams a test pattern, not a chessboard: the honest outcome is frames
 // received and counted, "no board", a non-zero exit and no output file.

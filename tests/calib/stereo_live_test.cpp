@@ -16,8 +16,8 @@
 
 #include "calib/board.h"
 #include "calib/calibration_file.h"
-#include "calib/camera_factory.h"
 #include "calib/image_file.h"
+#include "calib/replay_images.h"
 #include "calib/synthetic_views.h"
 #include "core/opencv_pixels.h"
 #include "test_support.h"
@@ -60,24 +60,25 @@ std::string replay(const fs::path& folder, const std::string& glob, const std::s
 }
 
 TEST(CameraFactory, ReplayIdsNameFolderPatternRateAndOffset) {
-  EXPECT_EQ(camera_kind("replay:data/left*.jpg"), CameraKind::kReplay);
-  const ReplayId a = parse_replay_id("replay:data/left*.jpg@30+20");
+  EXPECT_EQ(drivers::camera_kind("replay:data/left*.jpg"), drivers::CameraKind::kReplay);
+  const drivers::ReplayId a = drivers::parse_replay_id("replay:data/left*.jpg@30+20");
   EXPECT_EQ(a.folder, "data");
   EXPECT_EQ(a.pattern, "left*.jpg");
   EXPECT_DOUBLE_EQ(a.rate_hz, 30.0);
   EXPECT_DOUBLE_EQ(a.offset_ms, 20.0);
-  const ReplayId b = parse_replay_id("replay:right*.png@7.5-12.5");
+  const drivers::ReplayId b = drivers::parse_replay_id("replay:right*.png@7.5-12.5");
   EXPECT_EQ(b.folder, ".");
   EXPECT_DOUBLE_EQ(b.rate_hz, 7.5);
   EXPECT_DOUBLE_EQ(b.offset_ms, -12.5);
-  const ReplayId c = parse_replay_id("replay:" + data_dir("opencv-left").string());
+  const drivers::ReplayId c =
+      drivers::parse_replay_id("replay:" + data_dir("opencv-left").string());
   EXPECT_EQ(c.pattern, "*");  // a folder plays all its images
   EXPECT_DOUBLE_EQ(c.rate_hz, 15.0);
   for (const char* bad : {"replay:", "replay:@15", "replay:a/*.jpg@", "replay:a/*.jpg@0",
                           "replay:a/*.jpg@fast", "replay:a/*.jpg@15+x", "replay:a/*.jpg@2000"})
-    EXPECT_THROW(parse_replay_id(bad), std::invalid_argument) << bad;
+    EXPECT_THROW(drivers::parse_replay_id(bad), std::invalid_argument) << bad;
   try {
-    parse_replay_id("replay:a/*.jpg@fast");
+    drivers::parse_replay_id("replay:a/*.jpg@fast");
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("replay:a/*.jpg@fast"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("'fast'"), std::string::npos) << e.what();
@@ -350,8 +351,8 @@ namespace {
 // shared grid (epoch + offset + k / rate), then the stream ends. The consumer waits for frames,
 // never for time.
 TEST(ReplayCamera, PlaysEveryPictureInOrderOnItsGridThenEnds) {
-  auto cam =
-      make_camera_source("replay:" + (data_dir("opencv-left") / "left0[1-4]*").string() + "@50+3");
+  auto cam = drivers::make_camera_source(
+      "replay:" + (data_dir("opencv-left") / "left0[1-4]*").string() + "@50+3", load_replay_images);
   cam->open();
   EXPECT_EQ(cam->format().width_px, 640);
   EXPECT_DOUBLE_EQ(cam->format().frame_rate_hz, 50.0);
@@ -379,7 +380,8 @@ TEST(ReplayCamera, PlaysEveryPictureInOrderOnItsGridThenEnds) {
     EXPECT_EQ(stamps_ns[k] - stamps_ns[k - 1], 20'000'000) << k;  // 50 Hz
   EXPECT_EQ(cam->dropped_frames(), 0u);
   // A folder that does not exist is refused at open.
-  EXPECT_THROW(make_camera_source("replay:/no/such/dir/*.png")->open(), drivers::DeviceError);
+  EXPECT_THROW(drivers::make_camera_source("replay:/no/such/dir/*.png", load_replay_images)->open(),
+               drivers::DeviceError);
 }
 
 }  // namespace

@@ -10,10 +10,10 @@
 #include <thread>
 
 #include "calib/calibration_file.h"
+#include "core/config/config_error.h"
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/app/remote_config.h"
-#include "sim/scene/config_error.h"
 #include "test_paths.h"
 #include "test_wait.h"
 
@@ -75,20 +75,20 @@ TEST(RemoteConfig, AMockCameraArrivesWithItsFilesCalibrationFromTheStream) {
 }
 
 // The ConfigError of `text` as remote.yaml (expected to be refused).
-sim::ConfigError refusal(const std::string& text) {
+config::ConfigError refusal(const std::string& text) {
   try {
     parse_remote_config(text, std::string(hd::test::source_dir()) + "/remote/test.yaml");
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     return e;
   }
   ADD_FAILURE() << "accepted:\n" << text;
-  return sim::ConfigError("", 0, 0, "", "");
+  return config::ConfigError("", 0, 0, "", "");
 }
 
 TEST(RemoteConfig, ABadFileIsRefusedNamingFileLineColumnFieldAndValue) {
   const std::string cam = "../scenes/station-mock/cam0.yaml";
-  const sim::ConfigError port = refusal("cameras:\n  - id: mock\n    calibration: " + cam +
-                                        "\n    to: rtp://127.0.0.1:5601\n");
+  const config::ConfigError port = refusal("cameras:\n  - id: mock\n    calibration: " + cam +
+                                           "\n    to: rtp://127.0.0.1:5601\n");
   EXPECT_EQ(port.line(), 4);
   EXPECT_EQ(port.column(), 9);
   EXPECT_EQ(port.field(), "cameras[0].to");
@@ -96,38 +96,38 @@ TEST(RemoteConfig, ABadFileIsRefusedNamingFileLineColumnFieldAndValue) {
   EXPECT_NE(std::string(port.what()).find("remote/test.yaml:4:9"), std::string::npos)
       << port.what();
 
-  const sim::ConfigError twice = refusal("cameras:\n  - {id: mock, calibration: " + cam +
-                                         ", to: 'rtp://127.0.0.1:5600'}\n"
-                                         "  - {id: 'mock:320x240', calibration: " +
-                                         cam + ", to: 'rtp://127.0.0.1:5600'}\n");
+  const config::ConfigError twice = refusal("cameras:\n  - {id: mock, calibration: " + cam +
+                                            ", to: 'rtp://127.0.0.1:5600'}\n"
+                                            "  - {id: 'mock:320x240', calibration: " +
+                                            cam + ", to: 'rtp://127.0.0.1:5600'}\n");
   EXPECT_EQ(twice.line(), 3);
   EXPECT_NE(twice.why().find("destination too"), std::string::npos) << twice.what();
 
-  const sim::ConfigError rate = refusal("cameras:\n  - id: mock\n    calibration: " + cam +
-                                        "\n    to: rtp://127.0.0.1:5600\n    rate_hz: 0\n");
+  const config::ConfigError rate = refusal("cameras:\n  - id: mock\n    calibration: " + cam +
+                                           "\n    to: rtp://127.0.0.1:5600\n    rate_hz: 0\n");
   EXPECT_EQ(rate.field(), "cameras[0].rate_hz");
   EXPECT_EQ(rate.line(), 5);
 
-  const sim::ConfigError missing = refusal(
+  const config::ConfigError missing = refusal(
       "cameras:\n  - id: mock\n    calibration: nothere.yaml"
       "\n    to: rtp://127.0.0.1:5600\n");
   EXPECT_EQ(missing.field(), "cameras[0].calibration");
   EXPECT_NE(missing.why().find("nothere.yaml"), std::string::npos) << missing.what();
 
-  const sim::ConfigError network = refusal(
+  const config::ConfigError network = refusal(
       "cameras:\n  - id: rtp://127.0.0.1:5000\n    "
       "calibration: " +
       cam + "\n    to: rtp://h:5600\n");
   EXPECT_EQ(network.field(), "cameras[0].id");
 
-  const sim::ConfigError encoder = refusal(
+  const config::ConfigError encoder = refusal(
       "encoder: x265enc\ncameras:\n  - id: mock\n"
       "    calibration: " +
       cam + "\n    to: rtp://h:5600\n");
   EXPECT_EQ(encoder.field(), "encoder");
   EXPECT_NE(encoder.why().find("x264enc"), std::string::npos) << encoder.what();
 
-  const sim::ConfigError typo =
+  const config::ConfigError typo =
       refusal("cameras:\n  - id: mock\n    calibraton: " + cam + "\n    to: rtp://h:5600\n");
   EXPECT_NE(std::string(typo.what()).find("calibration"), std::string::npos) << typo.what();
 }

@@ -17,7 +17,7 @@ const std::string kDir = std::string(hd::test::source_dir()) + "/render/lens/pro
 std::string refusal(const std::string& yaml) {
   try {
     read_hmd_profile(YAML::Load(yaml), "mine.yaml");
-  } catch (const HmdProfileError& e) {
+  } catch (const config::ConfigError& e) {
     return e.what();
   }
   return "";
@@ -76,7 +76,7 @@ TEST(HmdProfile, UnknownNameListsTheShippedOnes) {
   try {
     find_hmd_profile("oculus-dk9", "");
     FAIL();
-  } catch (const HmdProfileError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("oculus-dk1"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("oculus-dk9"), std::string::npos) << e.what();
   }
@@ -121,7 +121,7 @@ TEST(HmdProfile, OtherMistakesNameTheField) {
   EXPECT_NE(refusal(with(kOsvr, "name: test", "name: test\ncolour: red")).find("colour: unknown"),
             std::string::npos);
   EXPECT_NE(refusal(with(kOsvr, "width_px: 1920", "width_px: wide"))
-                .find("panel.width_px: expected an integer, found 'wide'"),
+                .find("panel.width_px: expected an integer, got 'wide'"),
             std::string::npos);
   const std::string mesh = refusal(with(kOsvr, "model: polynomial", "model: mesh"));
   EXPECT_NE(mesh.find("mine.yaml"), std::string::npos) << mesh;
@@ -133,6 +133,62 @@ TEST(HmdProfile, OtherMistakesNameTheField) {
   EXPECT_NE(refusal(with(kOsvr, "fov_deg: [90, 96.73]", "aberration: [1, 1, 3]"))
                 .find("aberration[2]: 3"),
             std::string::npos);
+}
+
+TEST(HmdProfile, MistakesAreReportedAsTheSharedConfigReaderReportsThem) {
+  // The profile is read through core/config's reader: its messages, with line and field.
+  const std::string missing = [] {
+    try {
+      load_hmd_profile("/no/such/dir/mine.yaml");
+    } catch (const config::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  }();
+  EXPECT_EQ(missing.rfind("/no/such/dir/mine.yaml: cannot read", 0), 0u) << missing;
+  const std::string many =
+      refusal(with(kOsvr, "[0, 1, -1.74,", "[0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0,"));
+  EXPECT_NE(many.find("mine.yaml:8:"), std::string::npos) << many;
+  EXPECT_NE(
+      many.find("distortion.coefficients: expected a list of 2 to 12 numbers, got a list of 14"),
+      std::string::npos)
+      << many;
+  const std::string typo = refusal(with(kOsvr, "model: polynomial", "model: polynomal"));
+  EXPECT_NE(typo.find("mine.yaml:7:"), std::string::npos) << typo;
+  EXPECT_NE(typo.find("distortion.model: unknown model 'polynomal'; expected openhmd or "
+                      "polynomial; did you mean 'polynomial'?"),
+            std::string::npos)
+      << typo;
+  EXPECT_NE(refusal(with(kOsvr, "  left: [0.028674, 0.034245]\n", ""))
+                .find("mine.yaml:4:3: "
+                      "lens_centre_m.left: "
+                      "missing required key"),
+            std::string::npos);
+}
+
+TEST(HmdProfile, ANodeOfALargerFileNamesItsFieldsFromThatFilesRoot) {
+  const config::YamlFields station(
+      YAML::Load("display:\n  hmd:\n    name: nested\n    neutral: true\n    colour: red\n"),
+      "station.yaml");
+  const config::YamlFields hmd = station.required_map("display").required_map("hmd");
+  try {
+    read_hmd_profile(hmd);
+    FAIL() << "accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.field(), "display.hmd.colour") << e.what();
+    EXPECT_EQ(e.line(), 5) << e.what();
+  }
+  // check_profile's problems too.
+  const config::YamlFields wrong(YAML::Load(with(kOsvr, "[90, 96.73]", "[185, 96.73]")),
+                                 "station.yaml", "display.hmd");
+  try {
+    read_hmd_profile(wrong);
+    FAIL() << "accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.field(), "display.hmd.fov_deg[0]") << e.what();
+    EXPECT_EQ(e.line(), 10) << e.what();
+    EXPECT_NE(e.why().find("185"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

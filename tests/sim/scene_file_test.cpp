@@ -173,7 +173,7 @@ TEST(SceneFile, BrokenFilesNameLineAndField) {
     try {
       parse_scene(c.text, "/tmp/broken.yaml");
       ADD_FAILURE() << "accepted";
-    } catch (const ConfigError& e) {
+    } catch (const config::ConfigError& e) {
       EXPECT_EQ(e.file(), "/tmp/broken.yaml");
       EXPECT_EQ(e.line(), c.line) << e.what();
       EXPECT_EQ(e.field(), c.field) << e.what();
@@ -209,7 +209,7 @@ TEST(SceneFile, StereoPairsAndMovedObjects) {
   try {
     parse_scene(two + "stereo:\n  - {left: c1, right: c0, matcher: sgm}\n", "s.yaml");
     ADD_FAILURE() << "accepted";
-  } catch (const ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_EQ(e.field(), "stereo[0].matcher") << e.what();
     EXPECT_NE(e.why().find("sgbm-scaled"), std::string::npos) << e.what();
   }

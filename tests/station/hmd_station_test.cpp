@@ -4,8 +4,8 @@
 
 #include <string>
 
+#include "core/config/config_error.h"
 #include "render/lens/lens_warp.h"
-#include "sim/scene/config_error.h"
 #include "station/app/station_config.h"
 #include "station/app/station_parts.h"
 #include "test_paths.h"
@@ -83,7 +83,7 @@ TEST(HmdStation, BadInlineProfileNamesTheStationFileLineAndField) {
   try {
     parse_station_config(text, kDir + "bad.yaml");
     FAIL() << "accepted";
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_EQ(e.line(), 10) << e.what();
     EXPECT_EQ(e.field(), "display.hmd.fov_deg[0]") << e.what();
     EXPECT_NE(std::string(e.what()).find("bad.yaml:10:"), std::string::npos) << e.what();
@@ -92,7 +92,7 @@ TEST(HmdStation, BadInlineProfileNamesTheStationFileLineAndField) {
   try {
     parse_station_config(station_text("display: {hmd: oculus-dk9}\n"), kDir + "bad.yaml");
     FAIL() << "accepted";
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_EQ(e.field(), "display.hmd") << e.what();
     EXPECT_NE(std::string(e.what()).find("osvr-hdk-1.3"), std::string::npos) << e.what();
   }

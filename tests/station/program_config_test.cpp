@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "sim/scene/config_error.h"
+#include "core/config/config_error.h"
 #include "station/app/station_config.h"
 
 namespace hd::station {
@@ -247,7 +247,7 @@ TEST_F(StationConfigTest, BrokenSnippetsNameFileLineAndField) {
     try {
       parse_station_config(b.text, file);
       ADD_FAILURE() << "accepted";
-    } catch (const sim::ConfigError& e) {
+    } catch (const config::ConfigError& e) {
       EXPECT_EQ(e.file(), file);
       EXPECT_EQ(e.line(), line) << e.what();
       EXPECT_EQ(e.field(), b.field) << e.what();
@@ -265,21 +265,21 @@ TEST_F(StationConfigTest, MissingSectionsAndSyntaxErrorsAreConfigErrors) {
         "workspace: {min_m: [0, 0, 0], max_m: [1, 1, 1]}\n",
         path("station.yaml"));
     ADD_FAILURE() << "accepted";
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_EQ(e.field(), "tracker") << e.what();
   }
   // A YAML syntax error carries its line.
   try {
     parse_station_config("cameras: [\ntracker: {id: mock\n", path("station.yaml"));
     ADD_FAILURE() << "accepted";
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_GT(e.line(), 0) << e.what();
   }
   // An unreadable file is named.
   try {
     load_station_config(path("absent.yaml"));
     ADD_FAILURE() << "accepted";
-  } catch (const sim::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("absent.yaml"), std::string::npos);
   }
 }

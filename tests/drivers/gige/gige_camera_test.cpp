@@ -80,7 +80,7 @@ int fake_pattern_mismatches(const Frame& f) {
   return bad;
 }
 
-// The station's configuration of a GigE camera (calib/camera_factory.cpp): Mono8, and the
+// The station's configuration of a GigE camera (drivers/camera_factory.cpp): Mono8, and the
 // camera's own region and rate until negotiate() asks for a size.
 GigeConfig station_config() {
   GigeConfig c;

@@ -1,7 +1,10 @@
 #pragma once
-// A small checked reader over yaml-cpp nodes, shared by scene files and the station config: every
-// value is read through it so a mistake is reported as "<file>:<line>:<col>: <field>: <why>"
-// (ConfigError) instead of a yaml-cpp exception without context or, worse, a silent default.
+// A small checked reader over yaml-cpp nodes, shared by every YAML file the programs read (scene
+// files, station.yaml, remote.yaml, HMD profiles): every value is read through it so a mistake is
+// reported as "<file>:<line>:<col>: <field>: <why>" (ConfigError) instead of a yaml-cpp exception
+// without context or, worse, a silent default. It lives in core/config (its own library,
+// hd_config, so hd_core itself stays Eigen-only) because render/ reads HMD profiles and sits below
+// sim/, where the reader first was.
 //
 //   YamlFields root = load_yaml_fields("scenes/default.yaml");
 //   double d_m = root.required_map("camera").required_double("d_m", Range::positive());
@@ -20,9 +23,9 @@
 #include <string_view>
 #include <vector>
 
-#include "sim/scene/config_error.h"
+#include "core/config/config_error.h"
 
-namespace hd::sim {
+namespace hd::config {
 
 /// Bounds for a numeric field; each end open or closed.
 struct Range {
@@ -93,6 +96,9 @@ class YamlFields {
   Eigen::Vector3d required_vec3(std::string_view key, Range each = Range::any()) const;
   Eigen::Vector3d optional_vec3(std::string_view key, const Eigen::Vector3d& fallback,
                                 Range each = Range::any()) const;
+  /// A list of `min_count` to `max_count` numbers (as_doubles).
+  std::vector<double> required_doubles(std::string_view key, std::size_t min_count,
+                                       std::size_t max_count, Range each = Range::any()) const;
   /// Index into `names` of the value (a string); anything else lists the choices.
   std::size_t required_enum(std::string_view key, const std::vector<std::string>& names) const;
   std::size_t optional_enum(std::string_view key, const std::vector<std::string>& names,
@@ -116,6 +122,9 @@ class YamlFields {
   std::string as_string() const;
   Eigen::Vector3d as_vec3(Range each = Range::any()) const;
   std::vector<double> as_doubles(std::size_t count, Range each = Range::any()) const;
+  /// A list of `min_count` to `max_count` numbers (each item's field is "path[i]").
+  std::vector<double> as_doubles(std::size_t min_count, std::size_t max_count,
+                                 Range each = Range::any()) const;
   std::size_t as_enum(const std::vector<std::string>& names) const;
   bool is_map() const { return node_.IsMap() || node_.IsNull(); }
   bool is_list() const { return node_.IsSequence(); }
@@ -145,4 +154,4 @@ class YamlFields {
 /// load_yaml_file() wrapped as the root YamlFields of `path`.
 YamlFields load_yaml_fields(const std::string& path);
 
-}  // namespace hd::sim
+}  // namespace hd::config

@@ -1,31 +1,30 @@
-#include "calib/camera_factory.h"
+#include "drivers/camera_factory.h"
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
-#include "calib/image_set.h"
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/replay/replay_camera.h"
 
-#ifdef HD_CALIB_HAVE_V4L2
+#ifdef HD_FACTORY_HAVE_V4L2
 #include "drivers/v4l2/v4l2_camera.h"
 #endif
-#ifdef HD_CALIB_HAVE_MOCK
+#ifdef HD_FACTORY_HAVE_MOCK
 #include "drivers/mock/mock_camera.h"
 #endif
-#ifdef HD_CALIB_HAVE_RTP
+#ifdef HD_FACTORY_HAVE_RTP
 #include "drivers/rtp/rtp_camera.h"
 #endif
 #include "drivers/rtp/rtp_uri.h"
-#ifdef HD_CALIB_HAVE_GIGE
+#ifdef HD_FACTORY_HAVE_GIGE
 #include <arv.h>
 
 #include "drivers/gige/gige_camera.h"
 #endif
 
-namespace hd::calib {
+namespace hd::drivers {
 
 namespace {
 
@@ -58,29 +57,12 @@ bool parse_number(const std::string& s, double& out) {
 // is the first replay camera's start, so a left and a right camera started a few milliseconds
 // apart still take picture k at the same instant.
 int64_t replay_rig_epoch_ns() {
-  static const int64_t epoch_ns = drivers::monotonic_now_ns();
+  static const int64_t epoch_ns = monotonic_now_ns();
   return epoch_ns;
 }
 
-// The pictures as the replay driver wants them: loaded by calib's reader (the driver decodes
-// nothing), gray, rows packed.
-std::vector<drivers::ReplayImage> load_replay_images(const ReplayId& r) {
-  std::vector<drivers::ReplayImage> out;
-  for (const NamedImage& im : load_image_set(r.folder, r.pattern)) {
-    drivers::ReplayImage ri;
-    ri.name = im.name;
-    ri.width = im.gray.cols;
-    ri.height = im.gray.rows;
-    const cv::Mat packed = im.gray.isContinuous() ? im.gray : im.gray.clone();
-    ri.gray.assign(packed.datastart, packed.dataend);
-    out.push_back(std::move(ri));
-  }
-  return out;
-}
-
 [[noreturn, maybe_unused]] void not_built(const std::string& id, const char* driver) {
-  throw drivers::DeviceError("camera " + id + ": the " + driver +
-                             " driver is not built into this program");
+  throw DeviceError("camera " + id + ": the " + driver + " driver is not built into this program");
 }
 
 }  // namespace
@@ -123,16 +105,17 @@ ReplayId parse_replay_id(const std::string& id) {
 CameraKind camera_kind(const std::string& id) {
   if (id.rfind(kV4l2Prefix, 0) == 0) return CameraKind::kV4l2;
   if (id.rfind(kReplayPrefix, 0) == 0) return CameraKind::kReplay;
-  if (drivers::is_rtp_id(id)) return CameraKind::kRtp;
+  if (is_rtp_id(id)) return CameraKind::kRtp;
   if (id == kMockId || id.rfind(std::string(kMockId) + ":", 0) == 0) return CameraKind::kMock;
   return CameraKind::kGige;
 }
 
-std::unique_ptr<drivers::CameraSource> make_camera_source(const std::string& id) {
+std::unique_ptr<CameraSource> make_camera_source(const std::string& id,
+                                                 const ReplayImageLoader& load_replay) {
   switch (camera_kind(id)) {
     case CameraKind::kV4l2:
-#ifdef HD_CALIB_HAVE_V4L2
-      return std::make_unique<drivers::V4l2Camera>(id);
+#ifdef HD_FACTORY_HAVE_V4L2
+      return std::make_unique<V4l2Camera>(id);
 #else
       not_built(id, "V4L2");
 #endif
@@ -143,48 +126,51 @@ std::unique_ptr<drivers::CameraSource> make_camera_source(const std::string& id)
       if (id.size() > 4 && !parse_size(id.substr(5), w, h))
         throw std::invalid_argument("malformed id " + id +
                                     ": expected mock or mock:WxH, e.g. mock:640x480");
-#ifdef HD_CALIB_HAVE_MOCK
-      drivers::MockCameraConfig c;
+#ifdef HD_FACTORY_HAVE_MOCK
+      MockCameraConfig c;
       c.id = id;
       c.width = w;
       c.height = h;
       c.rate_hz = 30.0;
-      return std::make_unique<drivers::MockCamera>(std::move(c));
+      return std::make_unique<MockCamera>(std::move(c));
 #else
       not_built(id, "mock camera");
 #endif
     }
     case CameraKind::kRtp: {
-#ifdef HD_CALIB_HAVE_RTP
+#ifdef HD_FACTORY_HAVE_RTP
       std::string why;
-      const auto address = drivers::parse_rtp_uri(id, why);
+      const auto address = parse_rtp_uri(id, why);
       if (!address) throw std::invalid_argument("malformed id " + id + ": " + why);
-      drivers::RtpReceiveConfig c;
+      RtpReceiveConfig c;
       c.listen = *address;
-      return std::make_unique<drivers::RtpCamera>(std::move(c));
+      return std::make_unique<RtpCamera>(std::move(c));
 #else
       not_built(id, "network camera (GStreamer RTP)");
 #endif
     }
     case CameraKind::kReplay: {
       const ReplayId r = parse_replay_id(id);
-      drivers::ReplayCameraConfig c;
+      if (!load_replay)
+        throw DeviceError("camera " + id +
+                          ": this program reads no replay pictures (no picture loader given)");
+      ReplayCameraConfig c;
       c.id = id;
       c.rate_hz = r.rate_hz;
       c.offset_ns = static_cast<int64_t>(std::llround(r.offset_ms * 1e6));
-      c.load = [r] { return load_replay_images(r); };
+      c.load = [r, load_replay] { return load_replay(r); };
       c.epoch_ns = replay_rig_epoch_ns;
-      return std::make_unique<drivers::ReplayCamera>(std::move(c));
+      return std::make_unique<ReplayCamera>(std::move(c));
     }
     case CameraKind::kGige: {
-#ifdef HD_CALIB_HAVE_GIGE
-      drivers::GigeConfig c;
+#ifdef HD_FACTORY_HAVE_GIGE
+      GigeConfig c;
       c.device_id = id;
       // Mono8 is all the corner detector needs and the cheapest to carry; 0 keeps the camera's
       // own region and rate, so a calibration sees the sensor as the station will use it.
-      c.pixel_format = drivers::PixelFormat::kMono8;
+      c.pixel_format = PixelFormat::kMono8;
       c.frame_rate_hz = 0.0;
-      return std::make_unique<drivers::GigeCamera>(std::move(c));
+      return std::make_unique<GigeCamera>(std::move(c));
 #else
       not_built(id, "GigE (Aravis)");
 #endif
@@ -194,9 +180,9 @@ std::unique_ptr<drivers::CameraSource> make_camera_source(const std::string& id)
 }
 
 void shutdown_camera_drivers() {
-#ifdef HD_CALIB_HAVE_GIGE
+#ifdef HD_FACTORY_HAVE_GIGE
   arv_shutdown();
 #endif
 }
 
-}  // namespace hd::calib
+}  // namespace hd::drivers

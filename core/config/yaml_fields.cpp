@@ -1,4 +1,4 @@
-#include "sim/scene/yaml_fields.h"
+#include "core/config/yaml_fields.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace hd::sim {
+namespace hd::config {
 
 namespace {
 
@@ -234,13 +234,21 @@ std::string YamlFields::as_string() const {
 }
 
 std::vector<double> YamlFields::as_doubles(std::size_t count, Range each) const {
-  if (!node_.IsSequence() || node_.size() != count) {
-    fail("expected a list of " + std::to_string(count) + " numbers, got " +
+  return as_doubles(count, count, each);
+}
+
+std::vector<double> YamlFields::as_doubles(std::size_t min_count, std::size_t max_count,
+                                           Range each) const {
+  if (!node_.IsSequence() || node_.size() < min_count || node_.size() > max_count) {
+    const std::string count = min_count == max_count
+                                  ? std::to_string(min_count)
+                                  : std::to_string(min_count) + " to " + std::to_string(max_count);
+    fail("expected a list of " + count + " numbers, got " +
          (node_.IsSequence() ? "a list of " + std::to_string(node_.size()) : kind()));
   }
   std::vector<double> out;
-  out.reserve(count);
-  for (std::size_t i = 0; i < count; ++i) {
+  out.reserve(node_.size());
+  for (std::size_t i = 0; i < node_.size(); ++i) {
     out.push_back(
         YamlFields(node_[i], file_, path_ + "[" + std::to_string(i) + "]").as_double(each));
   }
@@ -308,6 +316,11 @@ Eigen::Vector3d YamlFields::required_vec3(std::string_view key, Range each) cons
 Eigen::Vector3d YamlFields::optional_vec3(std::string_view key, const Eigen::Vector3d& fallback,
                                           Range each) const {
   return has(key) ? child(key).as_vec3(each) : fallback;
+}
+
+std::vector<double> YamlFields::required_doubles(std::string_view key, std::size_t min_count,
+                                                 std::size_t max_count, Range each) const {
+  return required(key).as_doubles(min_count, max_count, each);
 }
 
 std::size_t YamlFields::required_enum(std::string_view key,
@@ -382,4 +395,4 @@ YamlFields load_yaml_fields(const std::string& path) {
   return YamlFields(load_yaml_file(path), path, "");
 }
 
-}  // namespace hd::sim
+}  // namespace hd::config

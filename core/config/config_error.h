@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace hd::sim {
+namespace hd::config {
 
 /// what() = "<file>:<line>:<col>: <field>: <why>". Line and column are 1-based; 0 means unknown
 /// (e.g. a file that cannot be read), and then they are left out of what(). An empty field (a
@@ -47,4 +47,4 @@ class ConfigError : public std::runtime_error {
   std::string why_;
 };
 
-}  // namespace hd::sim
+}  // namespace hd::config

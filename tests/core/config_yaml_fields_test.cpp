@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "sim/scene/yaml_fields.h"
+#include "core/config/yaml_fields.h"
 
-namespace hd::sim {
+namespace hd::config {
 namespace {
 
 YamlFields parse(const std::string& text) {
@@ -87,6 +87,21 @@ TEST(YamlFields, WrongTypeAndRangeAreReportedAtTheValue) {
   EXPECT_NE(e.why().find("integer"), std::string::npos);
 }
 
+TEST(YamlFields, ListsOfSomeNumbersCheckTheirLengthAndEachItem) {
+  const YamlFields f = parse("k: [0, 1, 2]\nshort: [1]\nbad: [1, x]\n");
+  EXPECT_EQ(f.required_doubles("k", 2, 12), (std::vector<double>{0, 1, 2}));
+  ConfigError e = error_of([&] { f.required_doubles("short", 2, 12); });
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_EQ(e.field(), "short");
+  EXPECT_EQ(e.why(), "expected a list of 2 to 12 numbers, got a list of 1");
+  e = error_of([&] { f.required_doubles("bad", 2, 2); });
+  EXPECT_EQ(e.field(), "bad[1]");
+  EXPECT_EQ(e.column(), 10);
+  EXPECT_EQ(e.why(), "expected a number, got 'x'");
+  e = error_of([&] { f.required_doubles("k", 2, 2); });
+  EXPECT_EQ(e.why(), "expected a list of 2 numbers, got a list of 3");
+}
+
 TEST(YamlFields, ListItemFieldPathCarriesTheIndex) {
   const YamlFields f = parse("cameras:\n  - fx: 1\n  - fx: 0\n");
   const auto cams = f.required_list("cameras");
@@ -161,4 +176,4 @@ TEST(YamlFields, ClosestMatchIgnoresFarWords) {
 }
 
 }  // namespace
-}  // namespace hd::sim
+}  // namespace hd::config
