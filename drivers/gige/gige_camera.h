@@ -15,7 +15,7 @@
 #include "drivers/format_watch.h"
 #include "drivers/gige/frame_id_unwrapper.h"
 #include "drivers/gige/gige_config.h"
-#include "drivers/gige/gobject_ptr.h"
+#include "drivers/gobject_ptr.h"
 #include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
