@@ -1,7 +1,7 @@
 #pragma once
 // Owning pointers for GStreamer's refcounted types (elements, pads, buses, messages, samples,
-// caps), so that no code path forgets an unref: every gst_*_get_* that returns a reference is
-// wrapped at once.
+// buffers, caps), so that no code path forgets an unref: every gst_*_get_* that returns a reference
+// is wrapped at once.
 
 #include <gst/gst.h>
 
@@ -34,6 +34,11 @@ struct GstSampleUnref {
     if (s != nullptr) gst_sample_unref(s);
   }
 };
+struct GstBufferUnref {
+  void operator()(GstBuffer* b) const {
+    if (b != nullptr) gst_buffer_unref(b);
+  }
+};
 struct GstCapsUnref {
   void operator()(GstCaps* c) const {
     if (c != nullptr) gst_caps_unref(c);
@@ -46,6 +51,7 @@ struct GstStructureFree {
 };
 using GstMessagePtr = std::unique_ptr<GstMessage, GstMessageUnref>;
 using GstSamplePtr = std::unique_ptr<GstSample, GstSampleUnref>;
+using GstBufferPtr = std::unique_ptr<GstBuffer, GstBufferUnref>;
 using GstCapsPtr = std::unique_ptr<GstCaps, GstCapsUnref>;
 using GstStructurePtr = std::unique_ptr<GstStructure, GstStructureFree>;
 
