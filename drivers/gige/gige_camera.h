@@ -17,8 +17,8 @@
 #include "drivers/gige/gige_config.h"
 #include "drivers/gige/gige_feature_setup.h"
 #include "drivers/gige/gige_stats.h"
-#include "drivers/gige/gobject_ptr.h"
 #include "drivers/gige/stream_watchdog.h"
+#include "drivers/gobject_ptr.h"
 #include "drivers/spsc_ring.h"
 
 namespace hd::drivers {

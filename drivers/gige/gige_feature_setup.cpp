@@ -7,8 +7,8 @@
 
 #include "drivers/camera_source.h"
 #include "drivers/gige/arv_pixel_format.h"
-#include "drivers/gige/gobject_ptr.h"
 #include "drivers/gige/region_fit.h"
+#include "drivers/gobject_ptr.h"
 
 namespace hd::drivers {
 

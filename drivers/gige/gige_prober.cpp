@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "drivers/gige/gobject_ptr.h"
+#include "drivers/gobject_ptr.h"
 
 namespace hd::drivers {
 

@@ -4,25 +4,23 @@
 
 #include <gst/gst.h>
 
-#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
-#include <mutex>
-#include <optional>
 #include <string>
-#include <thread>
 
 #include "drivers/camera_link.h"
 #include "drivers/camera_source.h"
 #include "drivers/format_watch.h"
+#include "drivers/gst/pipeline_runner.h"
 #include "drivers/rtp/clock_offset_estimator.h"
-#include "drivers/rtp/rtp_calibration.h"
-#include "drivers/rtp/rtp_frame_stamp.h"
+#include "drivers/rtp/rtp_calibration_cache.h"
+#include "drivers/rtp/rtp_camera_stats.h"
+#include "drivers/rtp/rtp_frame_stamper.h"
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
 #include "drivers/rtp/rtp_stream_guard.h"
-#include "drivers/rtp/view_feedback.h"
+#include "drivers/rtp/view_feedback_schedule.h"
 #include "drivers/spsc_ring.h"
 
 namespace hd::drivers {
@@ -45,61 +43,6 @@ struct RtpFrameTiming {
   /// capture_ns (and so encoded_ns, sent_ns) is true to within this (-1 unknown); 0 unstamped.
   int64_t clock_uncertainty_ns = -1;
   bool stamped = false;
-};
-
-/// Counters since start(); read from any thread.
-struct RtpCameraStats {
-  uint64_t packets = 0;  ///< UDP datagrams that reached the RTP port
-  uint64_t bytes = 0;    ///< their UDP payload bytes
-  /// Times the RTCP feedback destination was set (the first sender's RTCP address, then each
-  /// new one).
-  uint64_t feedback_targets = 0;
-  /// Packets refused by parse_rtp_packet or check_h264_payload (dropped before rtpbin or, with a
-  /// key, right after srtpdec), by reason.
-  std::array<uint64_t, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
-  uint64_t malformed_total = 0;
-  uint64_t accepted = 0;  ///< passed on to GStreamer: packets = accepted + malformed_total
-  /// Times the stream's sequence numbering was taken anew because two consecutive packets
-  /// continued a jump (RtpStreamGuard: a sender that renumbered); the jump's first packet is
-  /// counted in malformed[kSequenceJump].
-  uint64_t sequence_resyncs = 0;
-  uint64_t frames_published = 0;
-  uint64_t wrong_format = 0;  ///< decoded frames of another size than negotiated (not published)
-  uint64_t bus_errors = 0;    ///< GStreamer errors (each restarts the pipeline)
-  /// Frames with the sender's capture time (hybrid-remote) / with their arrival time instead.
-  uint64_t stamped_frames = 0;
-  uint64_t unstamped_frames = 0;
-  /// Stamped frames whose mapped capture time lay after their arrival (the two clocks disagree):
-  /// stamped with the arrival instead.
-  uint64_t capture_after_arrival = 0;
-  /// Decoded frames not newer than the last published one (a late or repeated frame): never
-  /// published, so old video is never presented as new.
-  uint64_t not_newer = 0;
-  /// Packets with header extensions whose stamp was refused, by reason (StampError).
-  std::array<uint64_t, static_cast<std::size_t>(StampError::kCount)> stamp_errors{};
-  /// With a key: packets srtpdec authenticated and decrypted / that failed (a wrong key, or a
-  /// sender without encryption): never decoded, never shown.
-  uint64_t srtp_decrypted = 0;
-  uint64_t srtp_rejected = 0;
-  /// Calibration elements (id 3) refused, by reason (CalibrationError); the element is ignored.
-  std::array<uint64_t, static_cast<std::size_t>(CalibrationError::kCount)> calibration_errors{};
-  uint64_t calibration_errors_total = 0;
-  uint64_t calibrations_received = 0;    ///< calibration elements accepted
-  uint64_t frames_with_calibration = 0;  ///< published frames that carry the stream's calibration
-  /// Decoded frames whose size is not their calibration's image size: never published.
-  uint64_t calibration_size_mismatch = 0;
-  /// The newest accepted calibration (none: the sender sends none, or none arrived yet).
-  std::optional<StreamCalibration> calibration;
-  int last_camera_index = -1;  ///< from the camera-state element; -1 none seen
-  int64_t last_calibration_revision = -1;
-  uint64_t restarts = 0;
-  /// Decoded key frames (IDR access units out of the depayloader), and the newest one's capture
-  /// time (0: none or unstamped).
-  uint64_t key_frames = 0;
-  int64_t last_key_frame_capture_ns = 0;
-  std::string last_error;       ///< the newest bus error's text ("" none)
-  ClockMapping clock;           ///< the sender-clock mapping in use now
-  uint64_t sender_reports = 0;  ///< RTCP sender reports received (clock samples)
 };
 
 /// Receives `rtp://HOST:PORT`: the pipeline of receive_pipeline_description() (udpsrc → rtpbin
@@ -183,7 +126,7 @@ class RtpCamera final : public CameraSource, public CameraLink {
   /// loop may call it between frames.
   void set_view_needed(bool needed) override;
   /// What set_view_needed said last (true before: full rate).
-  bool view_needed() const override { return view_need_.load(std::memory_order_relaxed) != 0; }
+  bool view_needed() const override { return view_.needed(); }
   /// stats() and feedback() as the station's summary reports them (rtp_link_report.cpp).
   LinkReport link_report() const override;
   /// Fault injection (config.netsim() only): netsim's drop probability while running; 1 cuts the
@@ -196,27 +139,31 @@ class RtpCamera final : public CameraSource, public CameraLink {
   std::string pipeline_description() const;
 
  private:
-  void build();
-  void teardown();
-  void bus_loop();
+  // The parts it composes: the pipeline and its bus thread (drivers/gst/pipeline_runner.h), the
+  // frame times (rtp_frame_stamper.h), the streamed calibrations (rtp_calibration_cache.h), the
+  // view feedback's cadence (view_feedback_schedule.h) and the counters (rtp_camera_stats.h).
+  // This class wires them to the pipeline's probes (rtp_camera_wiring.cpp).
+  void wire(PipelineRunner& pipeline);  // the runner's wire hook: signals, keys, probes
+  void on_bus_error();                  // bus thread
+  void on_bus_turn();                   // bus thread: view feedback, stall check
+  void send_view_feedback();            // bus thread
   void on_sample(GstElement* sink);
   RtpPacketError check_payload(const RtpPacketView& view) const;
+  RtpPacketError check_stream(const RtpPacketView& view, GstBuffer* buffer);
   GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
   GstPadProbeReturn on_decrypted(GstBuffer* buffer);
-  void on_depay_packet(GstBuffer* buffer);
+  void on_depay_packet(GstPad* pad, GstBuffer* buffer);
+  void on_access_unit(GstBuffer* buffer);
   void on_rtcp_into_rtpbin(GstBuffer* buffer);
+  void on_rtcp_from_sender(GstBuffer* buffer);
   void on_decoded(GstBuffer* buffer);
-  static GstPadProbeReturn depay_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
-  static GstFlowReturn new_sample_cb(GstElement* sink, gpointer self);
-  static GstPadProbeReturn rtp_probe_cb(GstPad* pad, GstPadProbeInfo* info, gpointer self);
-  static GstPadProbeReturn rtcp_probe_cb(GstPad*, GstPadProbeInfo* info, gpointer self);
+  // udpsrc's arrival stamp of `buffer` on CLOCK_MONOTONIC (the pipeline clock), or now.
+  int64_t arrival_ns(GstBuffer* buffer) const;
 
   RtpReceiveConfig config_;
   CameraFormat format_;  // negotiated: expected size, H.264 on the wire
   std::unique_ptr<Mailbox<Frame>> mailbox_;
-  GstElement* pipeline_ = nullptr;
 
-  std::thread bus_thread_;
   std::atomic<bool> running_{false};
   std::atomic<SourceState> state_{SourceState::kClosed};
   std::atomic<int64_t> last_frame_ns_{0};
@@ -226,83 +173,21 @@ class RtpCamera final : public CameraSource, public CameraLink {
   uint64_t sequence_ = 0;
   int sized_slots_ = 0;
 
-  std::atomic<uint64_t> packets_{0}, bytes_{0}, feedback_targets_{0};
+  RtpCameraCounters counters_;
   // The media SSRC, sequence numbers and RTP times taken (udpsrc's streaming thread, or
   // srtpdec's with a key: one thread either way).
   RtpStreamGuard stream_guard_;
-  std::atomic<uint64_t> stream_resyncs_{0};
-  // udpsrc's arrival stamp of `buffer` on CLOCK_MONOTONIC (the pipeline clock), or now.
-  int64_t arrival_ns(GstBuffer* buffer) const;
-  std::string feedback_to_;   // RTCP source thread: where feedback goes now
-  void send_view_feedback();  // any thread; takes view_mutex_
-  std::mutex view_mutex_;
-  std::string view_host_;  // where the sender's RTCP comes from (under view_mutex_)
-  int view_port_ = 0;
-  std::atomic<int> view_need_{-1};  // -1: never set; written by set_view_needed (lock-free)
-  // Bus thread only: what was sent last and when (0: send at the next turn).
-  int view_sent_need_ = -1;
-  uint16_t view_sequence_ = 0;
-  std::optional<ViewFeedbackKey> view_key_;  // from the SRTP key: the feedback is then tagged
-  int64_t view_sent_ns_ = 0;                 // under view_mutex_ (a new sender resets it)
-  std::atomic<uint64_t> view_sent_{0};
-  std::atomic<uint64_t> key_frames_{0};
-  std::atomic<int64_t> last_key_capture_ns_{0};
-  SpscRing<RtpFrameTiming, 1024> timings_;
-  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(RtpPacketError::kCount)> malformed_{};
-  std::atomic<uint64_t> frames_published_{0};
+  RtpFrameStamper stamper_;
+  RtpCalibrationCache calibrations_;
+  ViewFeedbackSchedule view_;
+  std::string feedback_to_;  // RTCP source thread: where feedback goes now ("" none yet)
   // Set when a stalled camera that had shown video asked for a key frame; cleared by the next
   // published frame, so each outage asks once (more come from the depayloader on every loss).
   std::atomic<bool> key_frame_requested_{false};
-  std::atomic<uint64_t> key_frame_requests_{0};
-  std::atomic<uint64_t> wrong_format_{0};
-  std::atomic<uint64_t> bus_errors_{0};
-  std::atomic<uint64_t> restarts_{0};
-  std::atomic<uint64_t> well_formed_{0}, decrypted_{0};
-  std::atomic<uint64_t> stamped_{0}, unstamped_{0}, capture_after_arrival_{0}, not_newer_{0};
-  int64_t last_published_capture_ns_ = 0;  // streaming thread
-  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(StampError::kCount)> stamp_errors_{};
-  std::atomic<int> last_camera_index_{-1};
-  std::atomic<int64_t> last_revision_{-1};
-  // Capture times by buffer PTS, from the depayloader's input (after the jitter buffer) to the
-  // decoded frame (the decoder keeps PTS). Fixed size: a few frames in flight at most.
-  struct StampSlot {
-    uint64_t pts = ~0ull;
-    int64_t capture_mono_ns = 0;
-    int64_t encoded_ns = 0, sent_ns = 0;  // 0: no sender-stages element
-    int64_t received_ns = 0;              // its last packet at the depayloader
-    int64_t arrival_ns = 0;               // udpsrc's stamp of its earliest packet (0 unknown)
-    int64_t uncertainty_ns = -1;
-    int64_t decoded_ns = 0;
-    bool has_revision = false;  // the packets' camera-state revision
-    uint32_t revision = 0;
-  };
-  // The newest accepted calibrations (newest first), looked up by a frame's revision.
-  std::array<std::optional<StreamCalibration>, 4> calibrations_{};
-  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(CalibrationError::kCount)>
-      calibration_errors_{};
-  std::atomic<uint64_t> calibrations_received_{0}, frames_with_calibration_{0},
-      calibration_size_mismatch_{0};
-  mutable std::mutex stamp_mutex_;
-  // The sender-clock estimate: sender reports from the RTCP thread, round trips from the
-  // depayloader's.
-  mutable std::mutex clock_mutex_;
-  ClockOffsetEstimator clock_;
-  uint8_t last_round_trip_count_ = 0;  // depayloader thread
-  std::atomic<uint64_t> sender_reports_{0};
-  std::array<StampSlot, 16> stamps_{};
-  // udpsrc's arrival stamp of each media packet passed on, by sequence number, for the
-  // depayloader's side (the jitter buffer replaces the buffer's timestamps with its own estimate,
-  // which may lie after the frame was decoded): (arrival in us << 16) | sequence, one atomic
-  // store (udpsrc's thread) and load (the jitter buffer's). 48 bits of microseconds last 8 years.
-  std::array<std::atomic<uint64_t>, 1024> arrivals_{};
-  void note_arrival(uint16_t sequence, int64_t arrival_ns);
-  int64_t arrival_of(uint16_t sequence, int64_t now_ns) const;  // 0: not known (any more)
-  // Finds or makes the slot of `pts` (under stamp_mutex_) and notes a packet's arrival in it.
-  StampSlot& stamp_slot(uint64_t pts, int64_t arrival_ns, int64_t now_ns);
-  std::size_t stamp_next_ = 0;
-  mutable std::mutex error_mutex_;
-  std::string last_error_;
+  SpscRing<RtpFrameTiming, 1024> timings_;
   FormatWatch format_watch_;  // streaming thread; the station pops its events
+  // Last: destroyed first, so that its bus thread and probes never see a member gone.
+  PipelineRunner pipeline_;
 };
 
 }  // namespace hd::drivers

@@ -4,6 +4,9 @@
 
 #include <stdexcept>
 
+#include "drivers/gobject_ptr.h"
+#include "drivers/gst/bus_error.h"
+#include "drivers/gst/gst_ptr.h"
 #include "drivers/rtp/gstreamer_init.h"
 
 namespace hd::remote {
@@ -12,44 +15,36 @@ namespace {
 // Whether `element` with our settings encodes a short test clip here: installed is not enough
 // (a VA-API plugin without a GPU, an NVENC plugin without the driver).
 bool encodes(const std::string& element, std::string& why) {
-  GstElementFactory* f = gst_element_factory_find(element.c_str());
-  if (f == nullptr) {
+  if (const drivers::GstObjectPtr<GstElementFactory> f{gst_element_factory_find(element.c_str())};
+      !f) {
     why = "not installed";
     return false;
   }
-  gst_object_unref(f);
   const std::string d =
       "videotestsrc num-buffers=2 ! video/x-raw,width=320,height=240,framerate=30/1 ! "
       "videoconvert ! video/x-raw,format=" +
       h264_encoder_input_format(element) + " ! " + h264_encoder_description(element, 1000, 30, 34) +
       " ! fakesink";
-  GError* error = nullptr;
-  GstElement* p = gst_parse_launch(d.c_str(), &error);
-  if (p == nullptr || error != nullptr) {
-    why = std::string("refuses our settings: ") + (error ? error->message : "unknown error");
-    g_clear_error(&error);
-    if (p != nullptr) gst_object_unref(p);
+  drivers::GErrorHolder error;
+  GstElement* parsed = gst_parse_launch(d.c_str(), error.out());
+  const drivers::GstElementPtr p(parsed != nullptr ? GST_ELEMENT(gst_object_ref_sink(parsed))
+                                                   : nullptr);
+  if (!p || error) {
+    why = std::string("refuses our settings: ") + (error ? error.message() : "unknown error");
     return false;
   }
-  gst_element_set_state(p, GST_STATE_PLAYING);
-  GstBus* bus = gst_element_get_bus(p);
-  GstMessage* m = gst_bus_timed_pop_filtered(
-      bus, 5 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  gst_element_set_state(p.get(), GST_STATE_PLAYING);
+  const drivers::GstBusPtr bus(gst_element_get_bus(p.get()));
+  const drivers::GstMessagePtr m(gst_bus_timed_pop_filtered(
+      bus.get(), 5 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR)));
   bool ok = false;
-  if (m == nullptr) {
+  if (!m)
     why = "did not encode a test picture within 5 s";
-  } else if (GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
-    GError* e = nullptr;
-    gst_message_parse_error(m, &e, nullptr);
-    why = std::string("fails: ") + (e ? e->message : "unknown error");
-    g_clear_error(&e);
-  } else {
+  else if (const auto e = drivers::parse_bus_error(m.get()))
+    why = "fails: " + e->text;
+  else
     ok = true;
-  }
-  if (m != nullptr) gst_message_unref(m);
-  gst_object_unref(bus);
-  gst_element_set_state(p, GST_STATE_NULL);
-  gst_object_unref(p);
+  gst_element_set_state(p.get(), GST_STATE_NULL);
   return ok;
 }
 

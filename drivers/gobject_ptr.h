@@ -1,5 +1,7 @@
 #pragma once
-// Owning pointer for GObject instances (Aravis cameras, streams, devices, buffers).
+// Owning pointers for GLib things: GObject instances (Aravis cameras and streams, GStreamer's
+// sockets and sessions), GError and g_malloc'd strings. GStreamer's own refcounted types have
+// theirs in drivers/gst/gst_ptr.h.
 
 #include <glib-object.h>
 
@@ -15,6 +17,13 @@ struct GObjectUnref {
 
 template <class T>
 using GObjectPtr = std::unique_ptr<T, GObjectUnref>;
+
+struct GFree {
+  void operator()(void* memory) const { g_free(memory); }
+};
+
+/// A string GLib allocated (g_inet_address_to_string, gst_object_get_name, ...).
+using GCharPtr = std::unique_ptr<gchar, GFree>;
 
 /// Owns a GError; `out()` hands its address to a GLib call.
 class GErrorHolder {

@@ -1,0 +1,106 @@
+#pragma once
+// The network camera's counters (RtpCameraStats, what stats() returns) and the atomics its
+// threads count them in.
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "drivers/rtp/clock_offset_estimator.h"
+#include "drivers/rtp/rtp_calibration.h"
+#include "drivers/rtp/rtp_frame_stamp.h"
+#include "drivers/rtp/rtp_packet.h"
+
+namespace hd::drivers {
+
+/// Counters since start(); read from any thread.
+struct RtpCameraStats {
+  uint64_t packets = 0;  ///< UDP datagrams that reached the RTP port
+  uint64_t bytes = 0;    ///< their UDP payload bytes
+  /// Times the RTCP feedback destination was set (the first sender's RTCP address, then each
+  /// new one).
+  uint64_t feedback_targets = 0;
+  /// Packets refused by parse_rtp_packet or check_h264_payload (dropped before rtpbin or, with a
+  /// key, right after srtpdec), by reason.
+  std::array<uint64_t, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
+  uint64_t malformed_total = 0;
+  uint64_t accepted = 0;  ///< passed on to GStreamer: packets = accepted + malformed_total
+  /// Times the stream's sequence numbering was taken anew because two consecutive packets
+  /// continued a jump (RtpStreamGuard: a sender that renumbered); the jump's first packet is
+  /// counted in malformed[kSequenceJump].
+  uint64_t sequence_resyncs = 0;
+  uint64_t frames_published = 0;
+  uint64_t wrong_format = 0;  ///< decoded frames of another size than negotiated (not published)
+  uint64_t bus_errors = 0;    ///< GStreamer errors (each restarts the pipeline)
+  /// Frames with the sender's capture time (hybrid-remote) / with their arrival time instead.
+  uint64_t stamped_frames = 0;
+  uint64_t unstamped_frames = 0;
+  /// Stamped frames whose mapped capture time lay after their arrival (the two clocks disagree):
+  /// stamped with the arrival instead.
+  uint64_t capture_after_arrival = 0;
+  /// Decoded frames not newer than the last published one (a late or repeated frame): never
+  /// published, so old video is never presented as new.
+  uint64_t not_newer = 0;
+  /// Packets with header extensions whose stamp was refused, by reason (StampError).
+  std::array<uint64_t, static_cast<std::size_t>(StampError::kCount)> stamp_errors{};
+  /// With a key: packets srtpdec authenticated and decrypted / that failed (a wrong key, or a
+  /// sender without encryption): never decoded, never shown.
+  uint64_t srtp_decrypted = 0;
+  uint64_t srtp_rejected = 0;
+  /// Calibration elements (id 3) refused, by reason (CalibrationError); the element is ignored.
+  std::array<uint64_t, static_cast<std::size_t>(CalibrationError::kCount)> calibration_errors{};
+  uint64_t calibration_errors_total = 0;
+  uint64_t calibrations_received = 0;    ///< calibration elements accepted
+  uint64_t frames_with_calibration = 0;  ///< published frames that carry the stream's calibration
+  /// Decoded frames whose size is not their calibration's image size: never published.
+  uint64_t calibration_size_mismatch = 0;
+  /// The newest accepted calibration (none: the sender sends none, or none arrived yet).
+  std::optional<StreamCalibration> calibration;
+  int last_camera_index = -1;  ///< from the camera-state element; -1 none seen
+  int64_t last_calibration_revision = -1;
+  uint64_t restarts = 0;
+  /// Decoded key frames (IDR access units out of the depayloader), and the newest one's capture
+  /// time (0: none or unstamped).
+  uint64_t key_frames = 0;
+  int64_t last_key_frame_capture_ns = 0;
+  std::string last_error;       ///< the newest bus error's text ("" none)
+  ClockMapping clock;           ///< the sender-clock mapping in use now
+  uint64_t sender_reports = 0;  ///< RTCP sender reports received (clock samples)
+};
+
+/// The counts RtpCamera's threads keep (each counter written by one thread, read by any:
+/// relaxed atomics, as none orders anything else). What other parts count (the calibration
+/// cache, the pipeline's bus, the view feedback, the clock) joins them in RtpCamera::stats().
+struct RtpCameraCounters {
+  std::atomic<uint64_t> packets{0}, bytes{0}, feedback_targets{0};
+  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(RtpPacketError::kCount)> malformed{};
+  /// Passed on to rtpbin (with a key: to srtpdec; one found malformed after it is taken back).
+  std::atomic<uint64_t> accepted{0};
+  std::atomic<uint64_t> decrypted{0};  ///< srtpdec let through, and well formed
+  std::atomic<uint64_t> sequence_resyncs{0};
+  std::atomic<uint64_t> frames_published{0}, wrong_format{0};
+  std::atomic<uint64_t> stamped{0}, unstamped{0}, capture_after_arrival{0}, not_newer{0};
+  std::array<std::atomic<uint64_t>, static_cast<std::size_t>(StampError::kCount)> stamp_errors{};
+  std::atomic<uint64_t> key_frames{0};
+  std::atomic<int64_t> last_key_frame_capture_ns{0};
+  std::atomic<uint64_t> key_frame_requests{0};
+  std::atomic<int> last_camera_index{-1};
+  std::atomic<int64_t> last_calibration_revision{-1};
+  std::atomic<uint64_t> sender_reports{0};
+
+  void count(RtpPacketError e) {
+    malformed[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
+  }
+  void count(StampError e) {
+    stamp_errors[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);
+  }
+  /// These counts as RtpCameraStats (the fields they cover). With `srtp`, srtp_decrypted and
+  /// srtp_rejected (accepted but not decrypted: packets in srtpdec's hands a moment ago count as
+  /// neither, so rejected never grows from them); without, both 0.
+  RtpCameraStats snapshot(bool srtp) const;
+};
+
+}  // namespace hd::drivers
