@@ -7,14 +7,6 @@
 
 namespace hd::drivers {
 
-int64_t host_realtime_minus_monotonic_ns() {
-  timespec r{}, m{};
-  ::clock_gettime(CLOCK_REALTIME, &r);
-  ::clock_gettime(CLOCK_MONOTONIC, &m);
-  return (int64_t(r.tv_sec) - int64_t(m.tv_sec)) * 1'000'000'000LL +
-         (int64_t(r.tv_nsec) - int64_t(m.tv_nsec));
-}
-
 RtpFrameStamper::RtpFrameStamper(const RtpReceiveConfig& config, HostOffset host_offset)
     : clock_kind_(config.clock),
       clock_error_ns_(config.clock_error_ns),

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <optional>
 
+#include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/clock_offset_estimator.h"
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "drivers/rtp/rtp_receive_config.h"
@@ -45,9 +46,6 @@ struct RtpStampedFrame {
   bool capture_after_arrival = false;
 };
 
-/// CLOCK_REALTIME - CLOCK_MONOTONIC of this host now, ns (the two read back to back).
-int64_t host_realtime_minus_monotonic_ns();
-
 /// Threads: note_arrival is udpsrc's (or srtpdec's), arrival_of and add_packet the depayloader's,
 /// add_sender_report the RTCP source's, add_decoded the decoder's, frame() and admit() the
 /// appsink's; clock_mapping() and capture_of() any. One mutex guards the frame slots, one the
@@ -64,7 +62,7 @@ class RtpFrameStamper {
 
   /// `host_offset` reads CLOCK_REALTIME - CLOCK_MONOTONIC (tests pass a fixed one).
   explicit RtpFrameStamper(const RtpReceiveConfig& config,
-                           HostOffset host_offset = &host_realtime_minus_monotonic_ns);
+                           HostOffset host_offset = &realtime_minus_monotonic_ns);
 
   /// A media packet passed on to rtpbin, with udpsrc's arrival stamp (mono ns).
   void note_arrival(uint16_t sequence, int64_t arrival_ns);

@@ -22,13 +22,7 @@
 namespace hd::remote {
 namespace {
 
-int64_t realtime_minus_monotonic_ns() {
-  timespec r{}, m{};
-  ::clock_gettime(CLOCK_REALTIME, &r);
-  ::clock_gettime(CLOCK_MONOTONIC, &m);
-  return (int64_t(r.tv_sec) - int64_t(m.tv_sec)) * 1'000'000'000LL +
-         (int64_t(r.tv_nsec) - int64_t(m.tv_nsec));
-}
+using drivers::realtime_minus_monotonic_ns;
 
 GstElement* by_name(GstElement* pipeline, const char* name) {
   return gst_bin_get_by_name(GST_BIN(pipeline), name);

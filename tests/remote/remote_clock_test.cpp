@@ -32,13 +32,7 @@ constexpr int64_t kShiftNs = 2'500'000'000LL;
 // by that truncation on top of its uncertainty.
 constexpr int64_t kResolutionNs = 2'000;
 
-int64_t realtime_minus_monotonic_ns() {
-  timespec r{}, m{};
-  ::clock_gettime(CLOCK_REALTIME, &r);
-  ::clock_gettime(CLOCK_MONOTONIC, &m);
-  return (int64_t(r.tv_sec) - int64_t(m.tv_sec)) * 1'000'000'000LL +
-         (int64_t(r.tv_nsec) - int64_t(m.tv_nsec));
-}
+using drivers::realtime_minus_monotonic_ns;
 
 // Frame number n as kBits white/black stripes (H.264 keeps stripes this wide intact).
 void paint(Frame& f, uint32_t n) {
