@@ -41,44 +41,44 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                " frames; guidance shown %" PRIu64 " frames; camera switches %" PRIu64 "\n",
                s.variant_frames[0], s.variant_frames[1], s.variant_frames[2], s.guidance_frames,
                s.camera_switches);
-  for (std::size_t i = 0; i < s.camera_names.size(); ++i)
+  for (const RunSummary::Camera& c : s.cameras)
     std::fprintf(out,
                  "  camera %-20s new frames shown %" PRIu64 ", lost by the device %" PRIu64
                  ", rejected %" PRIu64 "\n",
-                 s.camera_names[i].c_str(), s.camera_frames_shown[i], s.camera_frames_lost[i],
-                 s.camera_frames_rejected[i]);
-  for (const RunSummary::NetworkCamera& n : s.network_cameras)
+                 c.name.c_str(), c.frames_shown, c.frames_lost, c.frames_rejected);
+  for (const RunSummary::Camera& c : s.cameras) {
+    if (!c.network) continue;
+    const RunSummary::NetworkCamera& n = *c.network;
     std::fprintf(out,
                  "  network camera %-12s %" PRIu64 " packets (%" PRIu64
                  " malformed), security %s: %" PRIu64 " rejected; frames with capture time %" PRIu64
                  ", with arrival time %" PRIu64 "; PLI %" PRIu64 ", NACK %" PRIu64
                  ", RTX received %" PRIu64 "; view feedback %" PRIu64 " sent, need changed %" PRIu64
                  "%s%s\n",
-                 n.camera.c_str(), n.packets, n.malformed, n.security.c_str(), n.srtp_rejected,
+                 c.name.c_str(), n.packets, n.malformed, n.security.c_str(), n.srtp_rejected,
                  n.frames_stamped, n.frames_unstamped, n.pli_sent, n.nack_sent, n.rtx_received,
                  n.view_feedback_sent, n.need_changes,
                  n.last_error.empty() ? "" : "; last error: ", n.last_error.c_str());
-  for (const RunSummary::NetworkCamera& n : s.network_cameras)
     std::fprintf(out,
                  "  network camera %-12s clock %s: offset %.3f ms +- %.3f ms (round trip %.3f ms,"
                  " %" PRIu64 " samples, %" PRIu64 " sender reports), %" PRIu64
                  " capture times after arrival\n",
-                 n.camera.c_str(), n.clock_mapping.c_str(), double(n.clock_offset_ns) * 1e-6,
+                 c.name.c_str(), n.clock_mapping.c_str(), double(n.clock_offset_ns) * 1e-6,
                  double(n.clock_uncertainty_ns) * 1e-6, double(n.clock_round_trip_ns) * 1e-6,
                  n.clock_samples, n.sender_reports, n.capture_after_arrival);
-  for (const RunSummary::NetworkCamera& n : s.network_cameras)
     std::fprintf(out,
                  "  network camera %-12s calibration: %s; %" PRIu64
                  " calibration elements refused, %" PRIu64 " frames not shown for want of one\n",
-                 n.camera.c_str(), n.calibration.c_str(), n.calibration_errors,
+                 c.name.c_str(), n.calibration.c_str(), n.calibration_errors,
                  n.frames_uncalibrated);
-  for (std::size_t i = 0; i < s.camera_unusable.size() && i < s.camera_names.size(); ++i) {
+  }
+  for (const RunSummary::Camera& c : s.cameras) {
     double total_s = 0.0;
-    for (const UnusableInterval& u : s.camera_unusable[i])
+    for (const UnusableInterval& u : c.unusable)
       total_s += (u.to_s >= 0.0 ? u.to_s : s.seconds) - u.from_s;
-    if (!s.camera_unusable[i].empty())
+    if (!c.unusable.empty())
       std::fprintf(out, "  camera %-20s unusable %zu times, %.2f s in all (video withheld)\n",
-                   s.camera_names[i].c_str(), s.camera_unusable[i].size(), total_s);
+                   c.name.c_str(), c.unusable.size(), total_s);
   }
   std::fprintf(out,
                "  frames with a camera's video withheld as too old or not streaming: %" PRIu64 "\n",
@@ -132,23 +132,22 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
   j["guidance_frames"] = s.guidance_frames;
   j["camera_switches"] = s.camera_switches;
   nlohmann::json cams = nlohmann::json::array();
-  for (std::size_t i = 0; i < s.camera_names.size(); ++i) {
+  for (const RunSummary::Camera& c : s.cameras) {
     nlohmann::json unusable = nlohmann::json::array();
-    if (i < s.camera_unusable.size())
-      for (const UnusableInterval& u : s.camera_unusable[i])
-        unusable.push_back(
-            {{"from_s", u.from_s},
-             {"to_s", u.to_s >= 0.0 ? nlohmann::json(u.to_s) : nlohmann::json()},
-             {"from_frame", u.from_frame},
-             {"to_frame", u.to_s >= 0.0 ? nlohmann::json(u.to_frame) : nlohmann::json()},
-             {"video_age_ms", u.age_at_start_ms},
-             {"first_new_frame_ns", u.first_new_frame_ns},
-             {"usable_again_display_ns", u.to_display_ns},
-             {"state", u.state}});
-    cams.push_back({{"name", s.camera_names[i]},
-                    {"frames_shown", s.camera_frames_shown[i]},
-                    {"frames_lost", s.camera_frames_lost[i]},
-                    {"frames_rejected", s.camera_frames_rejected[i]},
+    for (const UnusableInterval& u : c.unusable)
+      unusable.push_back(
+          {{"from_s", u.from_s},
+           {"to_s", u.to_s >= 0.0 ? nlohmann::json(u.to_s) : nlohmann::json()},
+           {"from_frame", u.from_frame},
+           {"to_frame", u.to_s >= 0.0 ? nlohmann::json(u.to_frame) : nlohmann::json()},
+           {"video_age_ms", u.age_at_start_ms},
+           {"first_new_frame_ns", u.first_new_frame_ns},
+           {"usable_again_display_ns", u.to_display_ns},
+           {"state", u.state}});
+    cams.push_back({{"name", c.name},
+                    {"frames_shown", c.frames_shown},
+                    {"frames_lost", c.frames_lost},
+                    {"frames_rejected", c.frames_rejected},
                     {"unusable_intervals", unusable}});
   }
   j["cameras"] = cams;
@@ -164,8 +163,10 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                       {"seen", e.seen}});
   j["camera_events"] = events;
   nlohmann::json network = nlohmann::json::array();
-  for (const RunSummary::NetworkCamera& n : s.network_cameras)
-    network.push_back({{"camera", n.camera},
+  for (const RunSummary::Camera& c : s.cameras) {
+    if (!c.network) continue;
+    const RunSummary::NetworkCamera& n = *c.network;
+    network.push_back({{"camera", c.name},
                        {"security", n.security},
                        {"packets", n.packets},
                        {"bytes", n.bytes},
@@ -181,18 +182,17 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                        {"view_feedback_sent", n.view_feedback_sent},
                        {"need_changes", n.need_changes},
                        {"last_error", n.last_error}});
-  for (std::size_t i = 0; i < s.network_cameras.size(); ++i) {
-    const RunSummary::NetworkCamera& n = s.network_cameras[i];
-    network[i]["clock"] = {{"mapping", n.clock_mapping},
-                           {"offset_ns", n.clock_offset_ns},
-                           {"uncertainty_ns", n.clock_uncertainty_ns},
-                           {"round_trip_ns", n.clock_round_trip_ns},
-                           {"samples", n.clock_samples},
-                           {"sender_reports", n.sender_reports},
-                           {"capture_after_arrival", n.capture_after_arrival}};
-    network[i]["calibration"] = n.calibration;
-    network[i]["calibration_errors"] = n.calibration_errors;
-    network[i]["frames_uncalibrated"] = n.frames_uncalibrated;
+    nlohmann::json& last = network.back();
+    last["clock"] = {{"mapping", n.clock_mapping},
+                     {"offset_ns", n.clock_offset_ns},
+                     {"uncertainty_ns", n.clock_uncertainty_ns},
+                     {"round_trip_ns", n.clock_round_trip_ns},
+                     {"samples", n.clock_samples},
+                     {"sender_reports", n.sender_reports},
+                     {"capture_after_arrival", n.capture_after_arrival}};
+    last["calibration"] = n.calibration;
+    last["calibration_errors"] = n.calibration_errors;
+    last["frames_uncalibrated"] = n.frames_uncalibrated;
   }
   j["network_cameras"] = network;
   j["head"] = {{"accepted", s.pose_accepted},

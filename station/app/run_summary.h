@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,27 +26,30 @@ struct RunSummary {
   uint64_t variant_frames[3] = {0, 0, 0};  ///< video, hybrid, synthetic
   uint64_t guidance_frames = 0;
   uint64_t camera_switches = 0;
-  std::vector<std::string> camera_names;
-  std::vector<uint64_t> camera_frames_shown;     ///< frames in which each camera's frame was new
-  std::vector<uint64_t> camera_frames_rejected;  ///< by the pipeline (wrong size / format)
-  std::vector<uint64_t> camera_frames_lost;      ///< by the device: sequence gaps, overruns
   std::vector<CameraEventRecord> camera_events;  ///< format lost / restored, in the order seen
   /// What each network camera received (its link's report, drivers/camera_link.h) and what the
   /// station made of it.
   struct NetworkCamera : drivers::LinkReport {
-    std::string camera;         ///< its name
     uint64_t need_changes = 0;  ///< how often the view's need of it changed
     /// Where its p_c / P_c came from at the end: "stream (revision N)", "file F", or "none
     /// (no calibration arrived)"; frames not shown for want of one.
     std::string calibration;
     uint64_t frames_uncalibrated = 0;
   };
-  std::vector<NetworkCamera> network_cameras;
+  /// One camera's run, in the station's camera order.
+  struct Camera {
+    std::string name;
+    uint64_t frames_shown = 0;     ///< frames in which its frame was new
+    uint64_t frames_rejected = 0;  ///< by the pipeline (wrong size / format)
+    uint64_t frames_lost = 0;      ///< by the device: sequence gaps, overruns
+    /// The stretches in which its video was withheld (too old, source not streaming).
+    std::vector<UnusableInterval> unusable;
+    std::optional<NetworkCamera> network;  ///< a network camera's link
+  };
+  std::vector<Camera> cameras;
   std::string cameras_from;  ///< --cameras-from ("": the scene's cameras simulated in-process)
   std::string scene_epoch;   ///< --scene-epoch as given ("": scene t = 0 at this run's start)
   double first_frame_scene_s = 0.0;  ///< scene time of the first frame (with a scene epoch)
-  /// Per camera: the stretches in which its video was withheld (too old, source not streaming).
-  std::vector<std::vector<UnusableInterval>> camera_unusable;
   /// Frames in which some camera's video was withheld for its age or its source's state.
   uint64_t frames_stale_blocked = 0;
   uint64_t pose_accepted = 0, pose_rejected = 0;

@@ -335,16 +335,18 @@ int run(const RunOptions& o) {
     s.guidance_frames += r.decision.guidance;
   }
   s.camera_switches = frame.selector().switches();
-  s.camera_names = camera_names;
-  s.camera_frames_shown = frame.frames_fetched();
+  const std::vector<uint64_t> shown = frame.frames_fetched();
   for (std::size_t i = 0; i < p.cameras.size(); ++i) {
     const StationCamera& c = p.cameras[i];
-    s.camera_frames_rejected.push_back(c.pipeline->rejected());
-    s.camera_frames_lost.push_back(c.pipeline->device_dropped_frames());
+    RunSummary::Camera& out = s.cameras.emplace_back();
+    out.name = c.name;
+    out.frames_shown = shown[i];
+    out.frames_rejected = c.pipeline->rejected();
+    out.frames_lost = c.pipeline->device_dropped_frames();
+    out.unusable = usability.intervals()[i];
     if (c.link == nullptr) continue;
-    RunSummary::NetworkCamera n;
+    RunSummary::NetworkCamera& n = out.network.emplace();
     static_cast<drivers::LinkReport&>(n) = c.link->link_report();
-    n.camera = c.name;
     n.need_changes = need.changes(i);
     const int64_t revision = c.pipeline->stream_revision();
     const std::string& file = c.description.calibration_file;
@@ -352,14 +354,12 @@ int run(const RunOptions& o) {
                     : file.empty() ? "none (no calibration arrived: never shown)"
                                    : "file " + file;
     n.frames_uncalibrated = c.pipeline->uncalibrated();
-    s.network_cameras.push_back(n);
   }
   s.camera_events = camera_events.events();
   s.cameras_from = p.cameras_from;
   s.scene_epoch = p.scene_epoch_text;
   if (p.scene_epoch_ns != 0)
     s.first_frame_scene_s = 1e-9 * static_cast<double>(start_ns - p.scene_epoch_ns);
-  s.camera_unusable = usability.intervals();
   s.frames_stale_blocked = frame.frames_stale_blocked();
   s.pose_accepted = frame.pose_history().accepted();
   s.pose_rejected = frame.pose_history().rejected() + p.head->rejected_reports();
