@@ -247,12 +247,28 @@ void ModelUpdater::reconstruct_pairs() {
 }
 
 bool ModelUpdater::update(const std::atomic<bool>* running) {
-  if (!take_frames(running)) {
-    without_frames_.fetch_add(1, std::memory_order_relaxed);
-    return false;
-  }
+  if (!take(running)) return false;
   if (delay_ns_ > 0) sleep_until(clock_, taken_ns_ + delay_ns_, running);
   if (running && !running->load(std::memory_order_acquire)) return false;  // stopped meanwhile
+  finish();
+  return true;
+}
+
+bool ModelUpdater::take(const std::atomic<bool>* running) {
+  if (take_frames(running)) return true;
+  without_frames_.fetch_add(1, std::memory_order_relaxed);
+  return false;
+}
+
+bool ModelUpdater::take_update() {
+  return take(nullptr);
+}
+
+void ModelUpdater::finish_update() {
+  finish();
+}
+
+void ModelUpdater::finish() {
   reconstruct_ns_ = 0;
   if (!pairs_.empty()) reconstruct_pairs();
   ++attempts_;
@@ -266,7 +282,6 @@ bool ModelUpdater::update(const std::atomic<bool>* running) {
   if (extract_ns > max_extract_ns_.load(std::memory_order_relaxed))
     max_extract_ns_.store(extract_ns, std::memory_order_relaxed);
   last_texels_.store(extractor_.last_stats().texels_updated, std::memory_order_relaxed);
-  return true;
 }
 
 void ModelUpdater::publish() {

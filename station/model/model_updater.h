@@ -101,6 +101,14 @@ class ModelUpdater {
   /// station that wants the model textured before its first frame; not while the thread runs.
   bool update_once();
 
+  /// A run on the scene's clock drives the two halves of an update itself, with the model's
+  /// delay between them on its own clock (`hybrid-station score`): take_update() takes the
+  /// cameras' newest model frames now (false, counted, when none had one: nothing to finish);
+  /// finish_update() reconstructs, textures and publishes them. update_once() is take, wait,
+  /// finish. Not while the thread runs.
+  bool take_update();
+  void finish_update();
+
   /// The station's mailbox (single consumer).
   drivers::Mailbox<ModelSnapshot>& models() { return models_; }
   ModelUpdaterStats stats() const;
@@ -109,6 +117,8 @@ class ModelUpdater {
  private:
   void run();
   bool update(const std::atomic<bool>* running);  ///< running: cut a delay wait short on stop
+  bool take(const std::atomic<bool>* running);    ///< take_frames, counted when there were none
+  void finish();                                  ///< reconstruct, move, extract, publish
   bool take_frames(const std::atomic<bool>* running);
   void sync_pairs(const std::atomic<bool>* running);
   void reconstruct_pairs();

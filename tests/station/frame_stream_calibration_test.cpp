@@ -11,6 +11,7 @@
 
 #include "drivers/mock/mock_pose_source.h"
 #include "render/compositor/cpu_compositor.h"
+#include "render/loop/stepped_clock.h"
 #include "station/frame/station_frame.h"
 #include "station/prediction/kalman_predictor.h"
 #include "station/video/calibration_difference.h"
@@ -53,12 +54,8 @@ class HandNetworkCamera final : public drivers::CameraSource {
   uint64_t sequence_ = 0;
 };
 
-class FixedClock final : public render::LoopClock {
- public:
-  int64_t now_ns() override { return t_ns; }
-  void sleep_until_ns(int64_t) override {}
-  int64_t t_ns = 0;
-};
+// The tests set the scene's time themselves; StationFrame never sleeps.
+using FixedClock = render::SteppedLoopClock;
 
 drivers::FrameCalibration streamed(uint32_t revision, double cx_px, double x_m) {
   drivers::FrameCalibration c;
@@ -107,7 +104,7 @@ struct Station {
     camera.publish(timing(k).display_ns - 10 * kMs, c);
     EXPECT_TRUE(pipe->process_one());
     const render::FrameTiming t = timing(k);
-    clock.t_ns = t.start_ns;
+    clock.set_ns(t.start_ns);
     frame->tick(t);
     return frame->last_row();
   }

@@ -13,6 +13,7 @@
 
 #include "drivers/mock/mock_pose_source.h"
 #include "render/compositor/cpu_compositor.h"
+#include "render/loop/stepped_clock.h"
 #include "station/frame/station_frame.h"
 #include "station/prediction/kalman_predictor.h"
 #include "station/video/camera_pipeline.h"
@@ -65,12 +66,8 @@ class HandCamera final : public drivers::CameraSource {
   uint64_t sequence_ = 0;
 };
 
-class FixedClock final : public render::LoopClock {
- public:
-  int64_t now_ns() override { return t_ns; }
-  void sleep_until_ns(int64_t) override {}
-  int64_t t_ns = 0;
-};
+// The tests set the scene's time themselves; StationFrame never sleeps.
+using FixedClock = render::SteppedLoopClock;
 
 // One 160x120 camera at the origin looking down +z, the head (never moving) at the origin too:
 // m = 0, so whatever is not video is the age rule's doing.
@@ -102,7 +99,7 @@ struct Rig {
   }
   const FrameRow& tick(uint64_t k) {
     const render::FrameTiming t = timing(k);
-    clock.t_ns = t.start_ns;
+    clock.set_ns(t.start_ns);
     frame->tick(t);
     return frame->last_row();
   }

@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "render/loop/stepped_clock.h"
 #include "station/model/model_updater.h"
 
 namespace hd::station {
@@ -16,19 +17,7 @@ namespace {
 
 // Time moves only when the updater sleeps: every wait ends exactly at its deadline, so the
 // schedule can be asserted to the nanosecond without depending on the machine's speed.
-class FakeClock final : public render::LoopClock {
- public:
-  explicit FakeClock(int64_t t0) : now_(t0) {}
-  int64_t now_ns() override { return now_.load(); }
-  void sleep_until_ns(int64_t t_ns) override {
-    int64_t cur = now_.load();
-    while (t_ns > cur && !now_.compare_exchange_weak(cur, t_ns)) {
-    }
-  }
-
- private:
-  std::atomic<int64_t> now_;
-};
+using FakeClock = render::SteppedLoopClock;
 
 render::SyntheticScene plane_scene() {
   render::SyntheticScene s;
@@ -172,6 +161,34 @@ TEST(ModelUpdater, NoFramesNoPublicationAndSlotsAreNeverReallocated) {
     buffers.insert(s.scene.meshes[0].texture.data.data());
   }
   EXPECT_EQ(buffers.size(), 3u);  // the three slots made at construction, reused
+}
+
+TEST(ModelUpdater, ASteppedUpdatePublishesAtFinishWhatWasTakenAtTake) {
+  const core::Pinhole k = core::Pinhole::centred(200, 320, 240);
+  drivers::Mailbox<drivers::Frame> frames(uniform_frame(320, 240, 0, 0, 0, 0));
+  const ModelCamera cams[] = {{&frames, k, core::Pose::identity()}};
+  FakeClock clock(2'000'000'000);
+  ModelUpdaterConfig cfg;
+  cfg.delay_s = 0.3;
+  ModelUpdater updater(plane_scene(), cams, cfg, clock);
+  EXPECT_FALSE(updater.take_update());  // nothing yet: counted, nothing to finish
+  EXPECT_EQ(updater.stats().updates_without_frames, 1u);
+  frames.write_slot() = uniform_frame(320, 240, 40, 0, 0, 1'900'000'000);
+  frames.publish();
+  ASSERT_TRUE(updater.take_update());
+  // A newer frame arrives while the update waits out its delay: it is not the one used.
+  frames.write_slot() = uniform_frame(320, 240, 90, 0, 0, 2'100'000'000);
+  frames.publish();
+  EXPECT_FALSE(updater.models().fetch()) << "nothing is published before finish";
+  clock.set_ns(2'300'000'000);  // the driver's delay on the scene's clock
+  updater.finish_update();
+  ASSERT_TRUE(updater.models().fetch());
+  const ModelSnapshot& s = updater.models().latest();
+  EXPECT_EQ(s.taken_ns, 2'000'000'000);
+  EXPECT_EQ(s.published_ns, 2'300'000'000);
+  EXPECT_EQ(s.capture_oldest_ns, 1'900'000'000);
+  EXPECT_EQ(s.scene.meshes[0].texture.pixel(3, 3)[0], 40);
+  EXPECT_EQ(updater.stats().updates, 1u);
 }
 
 TEST(ModelUpdater, RealClockDelayIsAtLeastTheConfiguredOne) {
