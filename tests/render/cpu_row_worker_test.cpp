@@ -115,8 +115,11 @@ TEST(RowWorker, ClaimedRowsComeInGroupsAndTheWorkerTakesSome) {
     std::atomic<int> caller_calls{0};
     auto fn = [&](int b, int e, int t) {
       if (b % kTake != 0 || e - b > kTake || (e - b < kTake && e != rows)) groups_ok.store(false);
-      if (t == 1) worker_claimed.store(true);
-      // The caller's first group waits until the worker has claimed one: the worker takes part.
+      // Each thread's first group waits until the other has claimed one, so both take part
+      // however the two are scheduled (the worker set its flag before it waits, the caller
+      // counted its call before it waits: neither waits for the other forever).
+      if (t == 1 && !worker_claimed.exchange(true))
+        while (caller_calls.load() == 0) std::this_thread::yield();
       if (t == 0 && caller_calls.fetch_add(1) == 0)
         while (!worker_claimed.load()) std::this_thread::yield();
       rec.take(b, e, t);
