@@ -35,8 +35,7 @@
 #include "station/app/station_parts.h"
 #include "station/app/trace_plot.h"
 #include "station/app/usability_log.h"
-#include "station/prediction/constant_velocity_predictor.h"
-#include "station/prediction/kalman_predictor.h"
+#include "station/prediction/predictor_by_name.h"
 #include "station/selection/camera_need.h"
 
 namespace hd::station {
@@ -63,12 +62,6 @@ class KeyPoller {
   GLFWwindow* window_;
   bool down_[512] = {};
 };
-
-std::unique_ptr<station::PosePredictor> make_predictor(const std::string& name) {
-  if (name == "none") return std::make_unique<station::HoldPredictor>();
-  if (name == "cv") return std::make_unique<station::ConstantVelocityPredictor>();
-  return std::make_unique<station::KalmanPredictor>();
-}
 
 // The first frames would otherwise show the tracker origin (the predictor has nothing yet), not
 // the operator's head. Cameras are not waited for: a frame without video is honestly synthetic.
