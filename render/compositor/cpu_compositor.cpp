@@ -81,6 +81,8 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   }
   req_ = &req;
   out_ = &out;
+  const std::size_t picture = static_cast<std::size_t>(out.width) * out.height;
+  if (weight_map_ != nullptr && weight_map_->size() != picture) weight_map_->assign(picture, 0);
   scene_ = req.scene ? req.scene : &empty_scene();
   video_on_ = false;
   if (req.video != nullptr && req.has_region) {
@@ -261,6 +263,15 @@ void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
       // out = s + a (v - s) with the marked model colour s, four pixels at a time.
       blend.checker_row = y / cell;
       blend_row_sse2(blend, 0, W, srow, drow, any_video ? sa : nullptr, vid, orow);
+      if (weight_map_ != nullptr) {
+        uint8_t* wrow = weight_map_->data() +
+                        static_cast<std::size_t>(req.viewport.y + y) * out_->width +
+                        static_cast<std::size_t>(req.viewport.x);
+        for (int x = 0; x < W; ++x)
+          wrow[x] = any_video && sa[x] > 0.0f
+                        ? static_cast<uint8_t>(std::lround(255.0f * std::min(sa[x], 1.0f)))
+                        : 0;
+      }
       // The variant's coloured frame is painted last, over video and model alike.
       // Video past its age bound recolours the frame (and draws one in every other style).
       const bool stale = mark.video_stale && mark.style != core::MarkingStyle::kNone;

@@ -37,6 +37,12 @@ class CpuCompositor final : public Compositor {
   void predistort(const ImageRgba8& eyes, ImageRgba8& panel) override;
   const CompositorStats& stats() const override { return stats_; }
 
+  /// Keeps each drawn pixel's video weight a (out = s + a (v - s)), 0..255 rounded, in `map`
+  /// (one byte per pixel of the output picture, row-major; resized to it when it is not); nullptr
+  /// stops it. For `hybrid-station score`, which splits its error by what each pixel showed; costs
+  /// nothing when off.
+  void record_video_weight(std::vector<uint8_t>* map) { weight_map_ = map; }
+
  private:
   struct Frame;  // per-draw constants shared by the bands
   /// Rows [row_begin, row_end) with band `band`'s scratch (0: the caller's, 1: the worker's).
@@ -55,6 +61,7 @@ class CpuCompositor final : public Compositor {
   const SyntheticScene* scene_ = nullptr;
   VideoWarp warp_;
   bool video_on_ = false;
+  std::vector<uint8_t>* weight_map_ = nullptr;
 
   std::unique_ptr<lens::CpuPredistorter> lens_;
 

@@ -23,7 +23,8 @@ std::string join(const std::vector<std::string>& items) {
 
 }  // namespace
 
-std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOptions& o) {
+std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOptions& o,
+                                                  SceneDevices devices) {
   auto p = std::make_unique<StationParts>();
   p->source_kind = "scene";
   p->source_file = scene.file;
@@ -76,9 +77,21 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
   // Cameras: each simulated device through the station's pipeline, as a real one would be, or
   // with --cameras-from the network camera hybrid-remote --scene sends it as.
   CameraAssemblyContext ctx;
-  ctx.simulated = [&sim](const std::string& id) -> drivers::CameraSource* {
+  if (devices == SceneDevices::kStepped) {
+    // Any host time: the run's own clock starts there. Not 0, which means "no frame yet".
+    p->stepped = std::make_unique<StationParts::SteppedDevices>();
+    p->stepped->epoch_ns = 1'000'000'000;
     for (std::size_t i = 0; i < sim.scene().cameras.size(); ++i)
-      if (sim.camera(i).id() == id) return &sim.camera(i);
+      p->stepped->cameras.push_back(
+          std::make_unique<sim::SteppedCamera>(sim, i, p->stepped->epoch_ns));
+    p->stepped->head = std::make_unique<sim::SteppedHead>(sim, p->stepped->epoch_ns);
+  }
+  ctx.simulated = [&sim,
+                   stepped = p->stepped.get()](const std::string& id) -> drivers::CameraSource* {
+    for (std::size_t i = 0; i < sim.scene().cameras.size(); ++i)
+      if (sim.camera(i).id() == id)
+        return stepped ? static_cast<drivers::CameraSource*>(stepped->cameras[i].get())
+                       : &sim.camera(i);
     return nullptr;
   };
   ctx.known_delay_s = known_delay_s;
@@ -115,7 +128,9 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
   // the scene's motion starts.
   station::AlignedPoseSourceConfig ac;
   ac.alignment.T_world_home = sim.head_sample(0.0, 0).T_tracker_head;
-  p->head = std::make_unique<station::AlignedPoseSource>(sim.head(), ac);
+  drivers::PoseSource& head_device =
+      p->stepped ? static_cast<drivers::PoseSource&>(*p->stepped->head) : sim.head();
+  p->head = std::make_unique<station::AlignedPoseSource>(head_device, ac);
   try {
     p->head->open();
     p->report.opened("tracker", sim.head().id(),

@@ -4,6 +4,7 @@
 
 #include "recon/matcher_config.h"
 #include "render/lens/hmd_profile_file.h"
+#include "render/loop/stepped_clock.h"
 #include "station/app/report_text.h"
 
 namespace hd::station {
@@ -15,6 +16,11 @@ StationParts::~StationParts() {
 void StationParts::start() {
   if (started_) return;
   started_ = true;
+  if (stepped) {
+    for (auto& c : stepped->cameras) c->start();
+    stepped->head->start();
+    return;
+  }
   for (StationCamera& c : cameras) c.pipeline->start();
   if (head) head->start();
   if (updater) updater->start();
@@ -23,6 +29,11 @@ void StationParts::start() {
 void StationParts::stop() {
   if (!started_) return;
   started_ = false;
+  if (stepped) {
+    stepped->head->stop();
+    for (auto& c : stepped->cameras) c->stop();
+    return;
+  }
   if (updater) updater->stop();
   if (head) head->stop();
   for (StationCamera& c : cameras) c.pipeline->stop();
@@ -62,7 +73,11 @@ std::string add_model_updater(StationParts& p, station::ModelUpdaterConfig uc,
     uc.stereo_pairs.push_back(
         model_stereo_pair(sp, static_cast<std::size_t>(l), static_cast<std::size_t>(r), workspace));
   }
-  p.updater_clock = std::make_unique<render::MonotonicLoopClock>();
+  // Stepped: the run moves the updater's clock to each moment it drives it at.
+  if (p.stepped)
+    p.updater_clock = std::make_unique<render::SteppedLoopClock>();
+  else
+    p.updater_clock = std::make_unique<render::MonotonicLoopClock>();
   try {
     p.updater = std::make_unique<station::ModelUpdater>(p.model, mc, uc, *p.updater_clock);
   } catch (const std::exception& e) {

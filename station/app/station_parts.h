@@ -12,6 +12,8 @@
 #include "render/compositor/synthetic_scene.h"
 #include "sim/scene/scene.h"
 #include "sim/simulation.h"
+#include "sim/stepped_camera.h"
+#include "sim/stepped_head.h"
 #include "station/app/run_options.h"
 #include "station/app/startup_report.h"
 #include "station/app/station_camera.h"
@@ -31,6 +33,16 @@ struct StationParts {
   std::string source_file;
 
   std::unique_ptr<sim::Simulation> simulation;  ///< a scene's devices live in it
+  /// A run on the scene's clock (`hybrid-station score`): the scene's cameras and head stepped
+  /// by the run instead of the simulation's threads, scene t = 0 at host time epoch_ns. The
+  /// pipelines, the head's alignment and the model updater are then driven by the run too
+  /// (start() starts only these devices).
+  struct SteppedDevices {
+    int64_t epoch_ns = 0;
+    std::vector<std::unique_ptr<sim::SteppedCamera>> cameras;  ///< by scene camera index
+    std::unique_ptr<sim::SteppedHead> head;
+  };
+  std::unique_ptr<SteppedDevices> stepped;
   /// Every camera that opened, in the file's order: device, pipeline, calibration, link.
   std::vector<StationCamera> cameras;
   std::unique_ptr<drivers::PoseSource> tracker;
@@ -92,10 +104,15 @@ void configure_frame(StationParts& p, DisplayConfig display, core::TransitionPar
                      core::MarkingParams marking, const core::WorkspaceBox& workspace,
                      const std::string& predictor, const RunOptions& options);
 
+/// How a scene's devices run: on their threads against CLOCK_MONOTONIC (`run`), or stepped by
+/// the caller on the scene's clock (`score`: StationParts::stepped).
+enum class SceneDevices { kThreaded, kStepped };
+
 /// From a scene file (already loaded): "sim:<name>" cameras and "sim:head", the scene's model,
 /// a model updater when the scene lists model_staleness. Opens the devices; anything that fails
 /// is in the report.
-std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOptions& options);
+std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOptions& options,
+                                                  SceneDevices devices = SceneDevices::kThreaded);
 
 /// From station.yaml (already loaded): cameras by driver id through pipelines with their
 /// calibration, the tracker, the model geometry of the scene file it names (or none). Opens every

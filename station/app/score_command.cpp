@@ -1,0 +1,54 @@
+// `hybrid-station score`: the command line. The work is in score_run.cpp.
+#include <memory>
+
+#include "station/app/command.h"
+#include "station/app/score_run.h"
+#include "station/app/station_config.h"
+
+namespace hd::station {
+namespace {
+
+const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
+  auto opts = std::make_shared<ScoreOptions>();
+  RunOptions& o = opts->station;
+  o.out_dir = "out/score";
+  CLI::App* cmd = app.add_subcommand(
+      "score",
+      "Run the station on a scene's clock and score every frame against the truth the simulator "
+      "knows (PSNR, SSIM, GMSD per frame and eye; split by what each pixel showed).\n"
+      "The same scene gives the same scores on any machine under any load.\n"
+      "Examples:\n"
+      "  hybrid-station score --out out/score\n"
+      "  hybrid-station score --scene scenes/default.yaml --transition abrupt --save-frames 90 "
+      "--out out/score-abrupt\n"
+      "Writes DIR/score.csv (one row per frame and eye) and DIR/score.json (means and "
+      "percentiles, overall and by variant, the settings and the run's speed).\n"
+      "Exit codes: 0 done, 1 runtime failure, 2 bad scene file (file:line:col: field).");
+  cmd->add_option("--scene", o.scene_path,
+                  "Scene file (default: scenes/default.yaml, from the current directory or the "
+                  "source tree)");
+  cmd->add_option("--out", o.out_dir, "Output directory (created)")->capture_default_str();
+  auto* frames = cmd->add_option("--frames", o.frames, "Frames to score")
+                     ->check(CLI::Range(uint64_t{1}, uint64_t{100'000'000}));
+  cmd->add_option("--seconds", o.seconds, "Seconds of the scene to score (default: its duration)")
+      ->check(CLI::Range(0.01, 1e6))
+      ->excludes(frames);
+  cmd->add_option("--rate", o.rate_hz, "Display rate in Hz (default 90)")
+      ->check(CLI::Range(1.0, 1000.0));
+  cmd->add_flag("--mono", o.mono, "One eye (a monitor) instead of a stereo HMD");
+  cmd->add_option("--hmd", o.hmd,
+                  "HMD profile (name or .yaml): its eyes, scored before the lens pass");
+  cmd->add_option("--predictor", o.predictor, "none | cv | kalman")
+      ->check(CLI::IsMember({"none", "cv", "kalman"}));
+  cmd->add_option("--m-t", o.m_t, "Transition threshold m_t (px)")->check(CLI::Range(0.0, 1e6));
+  cmd->add_option("--eps", o.eps, "Transition half band eps (px)")->check(CLI::Range(0.0, 1e6));
+  cmd->add_option("--transition", o.transition_mode, "abrupt | global_blend | per_pixel")
+      ->check(CLI::IsMember(transition_mode_names()));
+  cmd->add_option("--threads", o.threads, "CPU compositor threads")->check(CLI::Range(1, 8));
+  cmd->add_option("--save-frames", opts->save_frames,
+                  "Every Nth frame: DIR/frames/NNNNNN_eyeE_shown.png and _truth.png");
+  cmd->callback([opts, &exit_code] { exit_code = run_score(*opts); });
+}};
+
+}  // namespace
+}  // namespace hd::station

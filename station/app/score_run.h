@@ -1,0 +1,36 @@
+#pragma once
+// `hybrid-station score`: the station's own frame path (StationFrame's tick, the CPU compositor,
+// the camera pipelines, the head's alignment and predictor, the model updater) run on the scene's
+// clock, and every displayed frame scored against the truth the simulator knows.
+//
+// Time: render of frame k starts at scene t = k / rate, its display time is one frame period and
+// the scan-out later. Before each frame the scene's stepped devices deliver what they would have
+// by then (sim/stepped_camera.h, sim/stepped_head.h), the pipelines and the head's alignment take
+// it, and the model updater takes frames every refresh period and publishes them the scene's
+// model delay later. Rendering cost never moves this clock: it is measured on CLOCK_MONOTONIC and
+// reported beside the scores, with the run's speed as a multiple of real time. So the same scene
+// and seed give the same score.csv on any machine under any load.
+//
+// Truth: per frame and eye, the scene as it is at the display time (moving objects placed then,
+// no camera effects) rendered by the CPU compositor from the true eye pose (the head's motion
+// without tracker effects), at the eye's size. The station runs with marking and guidance off
+// and no HUD, so the picture scored is the picture without the operator's cues; with an HMD
+// profile it is scored before the lens pass.
+
+#include <cstdint>
+#include <string>
+
+#include "station/app/run_options.h"
+
+namespace hd::station {
+
+struct ScoreOptions {
+  RunOptions station;        ///< scene, out, frames / seconds, rate, mono, hmd, m_t, eps, ...
+  uint64_t save_frames = 0;  ///< every Nth frame's shown and truth PNGs (0: none)
+};
+
+/// Runs and writes DIR/score.csv and DIR/score.json; returns the program's exit code (0 done,
+/// 1 runtime failure, 2 a bad scene file).
+int run_score(const ScoreOptions& options);
+
+}  // namespace hd::station

@@ -1,0 +1,156 @@
+// hybrid-station score: the same scene gives the same score.csv whatever the thread count (the
+// scene's clock, not the machine's), and its PSNR agrees with one recomputed from the saved
+// pictures by a plain formula.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/text_file.h"
+#include "test_paths.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hd::station::testing::slurp;
+
+constexpr int kFrames = 24;
+constexpr int kSaveEvery = 8;
+
+fs::path suite_dir() {
+  return fs::temp_directory_path() / ("station_score_test_" + std::to_string(::getpid()));
+}
+
+// Runs the built hybrid-station score from the source tree; the exit code.
+int score(const std::string& args, const fs::path& log) {
+  const std::string cmd = "cd '" + std::string(hd::test::source_dir()) + "' && '" +
+                          std::string(hd::test::station_bin()) + "' score " + args + " > '" +
+                          log.string() + "' 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream s(line);
+  std::string cell;
+  while (std::getline(s, cell, ',')) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+std::vector<std::vector<std::string>> rows_of(const std::string& csv) {
+  std::vector<std::vector<std::string>> rows;
+  std::stringstream s(csv);
+  std::string line;
+  while (std::getline(s, line)) rows.push_back(split(line));
+  return rows;
+}
+
+// The default scene scored once with one thread, and once with two threads saving every 8th
+// frame's pictures; each test runs (once per process: ctest runs each test alone) what it reads.
+class ScoreRun : public ::testing::Test {
+ protected:
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(suite_dir(), ec);
+  }
+  static fs::path one() { return run_once("one", ""); }
+  static fs::path two() {
+    return run_once("two", "--threads 2 --save-frames " + std::to_string(kSaveEvery));
+  }
+
+ private:
+  static fs::path run_once(const std::string& name, const std::string& extra) {
+    const fs::path out = suite_dir() / name;
+    if (!fs::exists(out / "score.json")) {
+      fs::create_directories(suite_dir());
+      const int rc = score(
+          "--frames " + std::to_string(kFrames) + " " + extra + " --out '" + out.string() + "'",
+          suite_dir() / (name + ".log"));
+      EXPECT_EQ(rc, 0) << slurp(suite_dir() / (name + ".log"));
+    }
+    return out;
+  }
+};
+
+TEST_F(ScoreRun, TheSameSceneGivesTheSameScoresWhateverTheThreadCount) {
+  const std::string a = slurp(one() / "score.csv");
+  const std::string b = slurp(two() / "score.csv");
+  EXPECT_EQ(a, b);
+  const auto rows = rows_of(a);
+  ASSERT_EQ(rows.size(), 1u + 2u * kFrames);  // header, then both eyes of every frame
+  EXPECT_EQ(rows[0], split("frame,t_s,eye,variant,camera,m,w_video,psnr_db,ssim,gmsd,"
+                           "psnr_video_db,psnr_blend_db,psnr_synthetic_db,video_fraction"));
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), rows[0].size()) << "row " << i;
+    EXPECT_EQ(std::stoi(rows[i][0]), static_cast<int>((i - 1) / 2));
+    EXPECT_EQ(std::stoi(rows[i][2]), static_cast<int>((i - 1) % 2));
+    const double psnr = std::stod(rows[i][7]), ssim = std::stod(rows[i][8]);
+    EXPECT_GT(psnr, 15.0) << "row " << i;  // the station shows the scene, not noise
+    EXPECT_LE(psnr, 100.0);
+    EXPECT_GT(ssim, 0.5);
+    EXPECT_LE(ssim, 1.0);
+  }
+}
+
+TEST_F(ScoreRun, PsnrRecomputedFromTheSavedPicturesAgrees) {
+  const auto rows = rows_of(slurp(two() / "score.csv"));
+  int compared = 0;
+  for (int frame = 0; frame < kFrames; frame += kSaveEvery)
+    for (int eye = 0; eye < 2; ++eye) {
+      char stem[64];
+      std::snprintf(stem, sizeof stem, "%06d_eye%d", frame, eye);
+      const fs::path dir = two() / "frames";
+      const cv::Mat shown = cv::imread((dir / (std::string(stem) + "_shown.png")).string());
+      const cv::Mat truth = cv::imread((dir / (std::string(stem) + "_truth.png")).string());
+      ASSERT_FALSE(shown.empty()) << stem;
+      ASSERT_EQ(shown.size(), truth.size());
+      // A plain formula: mean squared difference over every colour value, then 10 log10.
+      double sse = 0.0;
+      for (int y = 0; y < shown.rows; ++y)
+        for (int x = 0; x < shown.cols * 3; ++x) {
+          const double d = double(shown.ptr<uint8_t>(y)[x]) - double(truth.ptr<uint8_t>(y)[x]);
+          sse += d * d;
+        }
+      const double mse = sse / (3.0 * shown.rows * shown.cols);
+      const double psnr = mse > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 100.0;
+      const auto& row = rows[static_cast<std::size_t>(1 + 2 * frame + eye)];
+      EXPECT_NEAR(std::stod(row[7]), psnr, 0.01) << stem;
+      ++compared;
+    }
+  EXPECT_EQ(compared, 6);
+}
+
+TEST_F(ScoreRun, TheSummaryHoldsTheSettingsTheScoresAndTheSpeed) {
+  const nlohmann::json j = nlohmann::json::parse(slurp(one() / "score.json"));
+  EXPECT_EQ(j["settings"]["frames"].get<int>(), kFrames);
+  EXPECT_EQ(j["settings"]["eyes"].get<int>(), 2);
+  EXPECT_EQ(j["overall"]["eye_frames"].get<int>(), 2 * kFrames);
+  // The mean PSNR lies within the rows' range.
+  const auto rows = rows_of(slurp(one() / "score.csv"));
+  double lo = 1e9, hi = -1e9;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    lo = std::min(lo, std::stod(rows[i][7]));
+    hi = std::max(hi, std::stod(rows[i][7]));
+  }
+  const double mean = j["overall"]["psnr_db"]["mean"].get<double>();
+  EXPECT_GE(mean, lo);
+  EXPECT_LE(mean, hi);
+  EXPECT_LE(j["overall"]["psnr_db"]["p5"].get<double>(), mean);
+  int by_variant = 0;
+  for (const char* v : {"video", "hybrid", "synthetic"})
+    by_variant += j["by_variant"][v]["eye_frames"].get<int>();
+  EXPECT_EQ(by_variant, 2 * kFrames);
+  EXPECT_GT(j["speed"]["x_real_time"].get<double>(), 0.0);
+}
+
+}  // namespace
