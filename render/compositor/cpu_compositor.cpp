@@ -269,7 +269,7 @@ void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
                         static_cast<std::size_t>(req.viewport.x);
         for (int x = 0; x < W; ++x)
           wrow[x] = any_video && sa[x] > 0.0f
-                        ? static_cast<uint8_t>(std::lround(255.0f * std::min(sa[x], 1.0f)))
+                        ? static_cast<uint8_t>(255.0f * std::min(sa[x], 1.0f) + 0.5f)
                         : 0;
       }
       // The variant's coloured frame is painted last, over video and model alike.

@@ -1,5 +1,7 @@
 #include "station/app/score_run.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cinttypes>
@@ -9,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "render/compositor/cpu_compositor.h"
@@ -48,26 +51,6 @@ render::ImageRgba8 crop(const render::ImageRgba8& im, const render::Viewport& vp
   for (int y = 0; y < vp.height; ++y)
     std::copy_n(im.row(vp.y + y) + 4 * vp.x, 4 * vp.width, out.row(y));
   return out;
-}
-
-// Per pixel of the viewport: 1 where the recorded weight is in [lo, hi].
-std::vector<uint8_t> weight_mask(const std::vector<uint8_t>& map, int map_width,
-                                 const render::Viewport& vp, int lo, int hi) {
-  std::vector<uint8_t> m(static_cast<std::size_t>(vp.width) * vp.height);
-  for (int y = 0; y < vp.height; ++y)
-    for (int x = 0; x < vp.width; ++x) {
-      const int w = map[static_cast<std::size_t>(vp.y + y) * map_width + vp.x + x];
-      m[static_cast<std::size_t>(y) * vp.width + x] = w >= lo && w <= hi;
-    }
-  return m;
-}
-
-double mean_weight(const std::vector<uint8_t>& map, int map_width, const render::Viewport& vp) {
-  double sum = 0.0;
-  for (int y = 0; y < vp.height; ++y)
-    for (int x = 0; x < vp.width; ++x)
-      sum += map[static_cast<std::size_t>(vp.y + y) * map_width + vp.x + x];
-  return sum / (255.0 * vp.width * vp.height);
 }
 
 std::string number(double v, const char* f = "%.4f") {
@@ -202,6 +185,11 @@ int score(const ScoreOptions& so) {
               p.frame_config.lens ? "; before the lens pass" : "");
   std::fflush(stdout);
 
+  // OpenCV's quality module allocates its large float images anew for every score; kept by the
+  // allocator instead of returned to the system each time, they cost no page faults (which
+  // took half the run's time).
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   render::SteppedLoopClock clock(epoch);
   render::CpuCompositor compositor(o.threads);
   std::vector<uint8_t> weights;
@@ -214,7 +202,9 @@ int score(const ScoreOptions& so) {
   SteppedUpdater updater(p);
 
   // The truth: the whole scene (moving objects placed at each display time), no effects.
-  render::CpuCompositor truth_compositor(o.threads);
+  std::vector<std::unique_ptr<render::CpuCompositor>> truth_compositors;
+  for (int e = 0; e < 2; ++e)
+    truth_compositors.push_back(std::make_unique<render::CpuCompositor>(o.threads));
   render::SyntheticScene truth_scene = p.simulation->model();
   const render::StereoRig& rig = p.frame_config.rig;
   const int eyes = rig.eye_count();
@@ -258,7 +248,10 @@ int score(const ScoreOptions& so) {
     // motion itself, without the tracker's noise and drift.
     const core::Pose T_world_head = p.simulation->head().sample_at(t_display_s).T_tracker_head;
     const FrameRow& fr = frame.last_row();
-    for (int e = 0; e < eyes; ++e) {
+    // The eyes are scored side by side (the truth render and the scores are most of the time);
+    // each has its own compositor and writes only its own row.
+    ScoreRow eye_rows[2];
+    const auto score_eye = [&](int e) {
       const std::size_t ei = static_cast<std::size_t>(e);
       render::CompositeRequest req;
       req.scene = &truth_scene;
@@ -267,11 +260,11 @@ int score(const ScoreOptions& so) {
       req.near_m = p.frame_config.near_m;
       req.marking.style = core::MarkingStyle::kNone;
       req.viewport = {0, 0, truth[ei].width, truth[ei].height};
-      truth_compositor.draw(req, truth[ei]);
+      truth_compositors[ei]->draw(req, truth[ei]);
       const render::Viewport vp = rig.viewport(e);
       const render::ImageRgba8 shown = crop(frame.eyes_image(), vp);
-      const int map_w = frame.eyes_image().width;
-      ScoreRow r;
+      const std::size_t stride = static_cast<std::size_t>(frame.eyes_image().width);
+      ScoreRow& r = eye_rows[ei];
       r.frame = k;
       r.t_s = t_display_s;
       r.eye = e;
@@ -282,22 +275,40 @@ int score(const ScoreOptions& so) {
       r.m = fr.m;
       r.w_video = fr.w_video;
       r.whole = score_image(shown, truth[ei]);
-      r.psnr_video_db = masked_psnr_db(shown, truth[ei], weight_mask(weights, map_w, vp, 255, 255));
-      r.psnr_blend_db = masked_psnr_db(shown, truth[ei], weight_mask(weights, map_w, vp, 1, 254));
-      r.psnr_synthetic_db = masked_psnr_db(shown, truth[ei], weight_mask(weights, map_w, vp, 0, 0));
-      r.video_fraction = mean_weight(weights, map_w, vp);
+      const WeightSplit split =
+          split_by_weight(shown, truth[ei],
+                          weights.data() + static_cast<std::size_t>(vp.y) * stride + vp.x, stride);
+      r.psnr_video_db = split.psnr_video_db;
+      r.psnr_blend_db = split.psnr_blend_db;
+      r.psnr_synthetic_db = split.psnr_synthetic_db;
+      r.video_fraction = split.video_fraction;
       if (so.save_frames > 0 && k % so.save_frames == 0) {
-        cv::Mat bgr;
         char number_text[32];
         std::snprintf(number_text, sizeof number_text, "%06" PRIu64, k);
         const std::string stem = frames_dir + "/" + number_text + "_eye" + std::to_string(e);
+        cv::Mat bgr;
         rgba_to_bgr(shown, bgr);
         write_png_atomically(bgr, stem + "_shown.png");
         rgba_to_bgr(truth[ei], bgr);
         write_png_atomically(bgr, stem + "_truth.png");
       }
-      rows.push_back(std::move(r));
+    };
+    if (eyes == 2) {
+      std::exception_ptr failed;
+      std::thread other([&] {
+        try {
+          score_eye(1);
+        } catch (...) {
+          failed = std::current_exception();
+        }
+      });
+      score_eye(0);
+      other.join();
+      if (failed) std::rethrow_exception(failed);
+    } else {
+      score_eye(0);
     }
+    for (int e = 0; e < eyes; ++e) rows.push_back(std::move(eye_rows[e]));
     if (k + 1 >= next_progress || k + 1 == frames) {
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

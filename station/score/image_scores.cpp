@@ -45,11 +45,16 @@ ImageScores score_image(const render::ImageRgba8& shown, const render::ImageRgba
   ImageScores s;
   // MSE over all pixels and channels (QualityPSNR's per-channel figures would be averaged in dB,
   // which is not the PSNR of the picture).
-  cv::Mat diff;
-  cv::absdiff(a, b, diff);
-  diff.convertTo(diff, CV_64F);
-  const double sse = cv::sum(diff.mul(diff)).dot(cv::Scalar(1, 1, 1, 0));
-  s.psnr_db = psnr_from_mse(sse / (3.0 * static_cast<double>(a.total())));
+  int64_t sse = 0;  // exact: at most 3 * 255^2 per pixel
+  for (int y = 0; y < shown.height; ++y) {
+    const uint8_t* p = shown.row(y);
+    const uint8_t* q = truth.row(y);
+    for (int i = 0; i < 4 * shown.width; ++i) {
+      const int d = (i & 3) == 3 ? 0 : int(p[i]) - int(q[i]);
+      sse += d * d;
+    }
+  }
+  s.psnr_db = psnr_from_mse(static_cast<double>(sse) / (3.0 * static_cast<double>(a.total())));
   s.ssim = channel_mean(cv::quality::QualitySSIM::compute(b, a, cv::noArray()));
   s.gmsd = channel_mean(cv::quality::QualityGMSD::compute(b, a, cv::noArray()));
   return s;
@@ -79,6 +84,41 @@ double masked_psnr_db(const render::ImageRgba8& shown, const render::ImageRgba8&
   }
   if (n == 0) return std::numeric_limits<double>::quiet_NaN();
   return psnr_from_mse(sse / static_cast<double>(n));
+}
+
+WeightSplit split_by_weight(const render::ImageRgba8& shown, const render::ImageRgba8& truth,
+                            const uint8_t* weights, std::size_t stride) {
+  check_sizes(shown, truth);
+  int64_t sse[3] = {0, 0, 0};  // synthetic, blend, video
+  int64_t n[3] = {0, 0, 0};
+  int64_t weight_sum = 0;
+  for (int y = 0; y < shown.height; ++y) {
+    const uint8_t* p = shown.row(y);
+    const uint8_t* q = truth.row(y);
+    const uint8_t* w = weights + static_cast<std::size_t>(y) * stride;
+    for (int x = 0; x < shown.width; ++x) {
+      int e = 0;
+      for (int c = 0; c < 3; ++c) {
+        const int d = int(p[4 * x + c]) - int(q[4 * x + c]);
+        e += d * d;
+      }
+      const int k = w[x] == 0 ? 0 : w[x] == 255 ? 2 : 1;
+      sse[k] += e;
+      n[k] += 3;
+      weight_sum += w[x];
+    }
+  }
+  const auto psnr = [&](int k) {
+    return n[k] ? psnr_from_mse(static_cast<double>(sse[k]) / static_cast<double>(n[k]))
+                : std::numeric_limits<double>::quiet_NaN();
+  };
+  WeightSplit out;
+  out.psnr_synthetic_db = psnr(0);
+  out.psnr_blend_db = psnr(1);
+  out.psnr_video_db = psnr(2);
+  out.video_fraction =
+      static_cast<double>(weight_sum) / (255.0 * shown.width * static_cast<double>(shown.height));
+  return out;
 }
 
 }  // namespace hd::station

@@ -35,6 +35,18 @@ ImageScores score_image(const render::ImageRgba8& shown, const render::ImageRgba
 double masked_psnr_db(const render::ImageRgba8& shown, const render::ImageRgba8& truth,
                       std::span<const uint8_t> mask);
 
+/// The error split by what each pixel showed, from the compositor's per-pixel video weight
+/// (render::CpuCompositor::record_video_weight, 0..255): PSNR over the pixels that showed video
+/// only (255), a blend (1..254) and the model only (0), NaN where there were none; and the mean
+/// weight, the share of the picture that came from the video. One pass.
+struct WeightSplit {
+  double psnr_video_db = 0.0, psnr_blend_db = 0.0, psnr_synthetic_db = 0.0;
+  double video_fraction = 0.0;
+};
+/// `weights`: the weight of pixel (x, y) at weights[y * stride + x].
+WeightSplit split_by_weight(const render::ImageRgba8& shown, const render::ImageRgba8& truth,
+                            const uint8_t* weights, std::size_t stride);
+
 /// PSNR of a mean squared error (per channel value, 8-bit), capped at kPsnrCapDb.
 double psnr_from_mse(double mse);
 

@@ -77,6 +77,46 @@ TEST(ImageScores, AMaskScoresOnlyThePixelsItSelects) {
   EXPECT_NEAR(score_image(shown, truth).psnr_db, 10.0 * std::log10(65025.0 / 200.0), 1e-9);
 }
 
+TEST(ImageScores, TheOnePassSplitAgreesWithThreeMasksAndTheMeanWeight) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> v(0, 255);
+  const int w = 37, h = 23;
+  render::ImageRgba8 a, b;
+  a.allocate(w, h);
+  b.allocate(w, h);
+  for (std::size_t i = 0; i < a.data.size(); ++i) {
+    a.data[i] = static_cast<uint8_t>(v(rng));
+    b.data[i] = static_cast<uint8_t>(v(rng));
+  }
+  // Weights in a picture twice as wide (the eye's viewport in the stereo picture): stride 2 w.
+  std::vector<uint8_t> weights(static_cast<std::size_t>(2 * w * h));
+  std::vector<uint8_t> video(static_cast<std::size_t>(w * h)), blend = video, synth = video;
+  double sum = 0.0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int r = v(rng);
+      const uint8_t wt = r < 80 ? 0 : r < 160 ? 255 : static_cast<uint8_t>(1 + r % 254);
+      weights[static_cast<std::size_t>(y * 2 * w + x)] = wt;
+      const std::size_t i = static_cast<std::size_t>(y * w + x);
+      synth[i] = wt == 0;
+      video[i] = wt == 255;
+      blend[i] = wt > 0 && wt < 255;
+      sum += wt / 255.0;
+    }
+  const WeightSplit s = split_by_weight(a, b, weights.data(), static_cast<std::size_t>(2 * w));
+  EXPECT_NEAR(s.psnr_video_db, masked_psnr_db(a, b, video), 1e-9);
+  EXPECT_NEAR(s.psnr_blend_db, masked_psnr_db(a, b, blend), 1e-9);
+  EXPECT_NEAR(s.psnr_synthetic_db, masked_psnr_db(a, b, synth), 1e-9);
+  EXPECT_NEAR(s.video_fraction, sum / (w * h), 1e-12);
+  // No video at all: its PSNR is NaN (nothing to score), the fraction 0.
+  std::fill(weights.begin(), weights.end(), 0);
+  const WeightSplit none = split_by_weight(a, b, weights.data(), static_cast<std::size_t>(2 * w));
+  EXPECT_TRUE(std::isnan(none.psnr_video_db));
+  EXPECT_TRUE(std::isnan(none.psnr_blend_db));
+  EXPECT_EQ(none.video_fraction, 0.0);
+  EXPECT_NEAR(none.psnr_synthetic_db, score_image(a, b).psnr_db, 1e-9);
+}
+
 TEST(ImageScores, PicturesOfDifferentSizesAreRefusedNamingBoth) {
   try {
     score_image(filled(4, 4, 0), filled(4, 5, 0));
