@@ -14,4 +14,9 @@ struct LocatedFile {
 /// from. Throws std::runtime_error naming both places when neither has it.
 LocatedFile locate_default_scene();
 
+/// `given` when not empty, else the default scene; prints which, after "`program`: " (the start
+/// report's first line).
+std::string scene_or_default(const std::string& given, const std::string& program,
+                             const std::string& no_option_text);
+
 }  // namespace hd::station

@@ -141,15 +141,8 @@ int score(const ScoreOptions& so) {
   namespace fs = std::filesystem;
   RunOptions o = so.station;
   o.headless = true;
-  std::string scene_path = o.scene_path;
-  if (scene_path.empty()) {
-    const LocatedFile f = locate_default_scene();
-    std::printf("hybrid-station score: no --scene: default scene %s (found in the %s)\n",
-                f.path.c_str(), f.how.c_str());
-    scene_path = f.path;
-  } else {
-    std::printf("hybrid-station score: scene %s\n", scene_path.c_str());
-  }
+  const std::string scene_path =
+      scene_or_default(o.scene_path, "hybrid-station score", "no --scene");
   sim::Scene scene = sim::load_scene(scene_path);
   const double duration_s = scene.duration_s;
   const std::unique_ptr<StationParts> parts =

@@ -120,15 +120,8 @@ std::unique_ptr<StationParts> assemble(const RunOptions& o) {
     std::printf("hybrid-station run: station config %s (real devices)\n", o.config_path.c_str());
     return assemble_from_config(load_station_config(o.config_path), o);
   }
-  std::string scene_path = o.scene_path;
-  if (scene_path.empty()) {
-    const LocatedFile f = locate_default_scene();
-    std::printf("hybrid-station run: no --scene or --config: default scene %s (found in the %s)\n",
-                f.path.c_str(), f.how.c_str());
-    scene_path = f.path;
-  } else {
-    std::printf("hybrid-station run: scene %s (simulated devices)\n", scene_path.c_str());
-  }
+  const std::string scene_path =
+      scene_or_default(o.scene_path, "hybrid-station run", "no --scene or --config");
   sim::Scene scene = sim::load_scene(scene_path);
   if (o.loop) scene.loop = true;
   return assemble_from_scene(std::move(scene), o);

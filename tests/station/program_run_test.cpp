@@ -27,6 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using hd::station::testing::slurp;
+using hd::station::testing::split_csv_line;
 
 struct Result {
   int exit_code = -1;
@@ -64,15 +65,6 @@ class StationRunTest : public ::testing::Test {
   fs::path dir_;
 };
 
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream s(line);
-  std::string cell;
-  while (std::getline(s, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-
 struct CsvTable {
   std::vector<std::string> header;
   std::vector<std::map<std::string, std::string>> rows;
@@ -83,9 +75,9 @@ CsvTable read_csv(const fs::path& p) {
   std::ifstream f(p);
   std::string line;
   if (!std::getline(f, line)) return t;
-  t.header = split(line);
+  t.header = split_csv_line(line);
   while (std::getline(f, line)) {
-    const std::vector<std::string> cells = split(line);
+    const std::vector<std::string> cells = split_csv_line(line);
     EXPECT_EQ(cells.size(), t.header.size()) << line;
     std::map<std::string, std::string> row;
     for (std::size_t i = 0; i < cells.size() && i < t.header.size(); ++i)

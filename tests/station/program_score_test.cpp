@@ -21,6 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using hd::station::testing::slurp;
+using hd::station::testing::split_csv_line;
 
 constexpr int kFrames = 24;
 constexpr int kSaveEvery = 8;
@@ -38,20 +39,11 @@ int score(const std::string& args, const fs::path& log) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream s(line);
-  std::string cell;
-  while (std::getline(s, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-
 std::vector<std::vector<std::string>> rows_of(const std::string& csv) {
   std::vector<std::vector<std::string>> rows;
   std::stringstream s(csv);
   std::string line;
-  while (std::getline(s, line)) rows.push_back(split(line));
+  while (std::getline(s, line)) rows.push_back(split_csv_line(line));
   return rows;
 }
 
@@ -88,7 +80,8 @@ TEST_F(ScoreRun, TheSameSceneGivesTheSameScoresWhateverTheThreadCount) {
   EXPECT_EQ(a, b);
   const auto rows = rows_of(a);
   ASSERT_EQ(rows.size(), 1u + 2u * kFrames);  // header, then both eyes of every frame
-  EXPECT_EQ(rows[0], split("frame,t_s,eye,variant,camera,m,w_video,psnr_db,ssim,gmsd,"
+  EXPECT_EQ(rows[0],
+            split_csv_line("frame,t_s,eye,variant,camera,m,w_video,psnr_db,ssim,gmsd,"
                            "psnr_video_db,psnr_blend_db,psnr_synthetic_db,video_fraction"));
   for (std::size_t i = 1; i < rows.size(); ++i) {
     ASSERT_EQ(rows[i].size(), rows[0].size()) << "row " << i;
