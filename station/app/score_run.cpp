@@ -26,6 +26,7 @@
 #include "station/app/station_parts.h"
 #include "station/prediction/predictor_by_name.h"
 #include "station/score/image_scores.h"
+#include "station/score/m_against_truth.h"
 
 namespace hd::station {
 namespace {
@@ -43,6 +44,9 @@ struct ScoreRow {
   /// only (weight 0); NaN when there were none.
   double psnr_video_db = NAN, psnr_blend_db = NAN, psnr_synthetic_db = NAN;
   double video_fraction = 0.0;  ///< the mean per-pixel video weight
+  /// The same frame drawn as pure video (the camera on screen, or the one chosen, at weight 1)
+  /// and as pure model; NaN for pure video when no camera was usable.
+  double psnr_pure_video_db = NAN, psnr_pure_synthetic_db = NAN;
 };
 
 render::ImageRgba8 crop(const render::ImageRgba8& im, const render::Viewport& vp) {
@@ -60,14 +64,15 @@ std::string number(double v, const char* f = "%.4f") {
 void write_csv(const std::vector<ScoreRow>& rows, const std::string& path) {
   std::string s =
       "frame,t_s,eye,variant,camera,m,w_video,psnr_db,ssim,gmsd,psnr_video_db,psnr_blend_db,"
-      "psnr_synthetic_db,video_fraction\n";
+      "psnr_synthetic_db,video_fraction,psnr_pure_video_db,psnr_pure_synthetic_db\n";
   for (const ScoreRow& r : rows)
     s += std::to_string(r.frame) + "," + fmt("%.6f", r.t_s) + "," + std::to_string(r.eye) + "," +
          variant_name(r.variant) + "," + r.camera + "," + number(r.m, "%.3f") + "," +
          fmt("%.4f", r.w_video) + "," + number(r.whole.psnr_db) + "," +
          number(r.whole.ssim, "%.5f") + "," + number(r.whole.gmsd, "%.5f") + "," +
          number(r.psnr_video_db) + "," + number(r.psnr_blend_db) + "," +
-         number(r.psnr_synthetic_db) + "," + fmt("%.4f", r.video_fraction) + "\n";
+         number(r.psnr_synthetic_db) + "," + fmt("%.4f", r.video_fraction) + "," +
+         number(r.psnr_pure_video_db) + "," + number(r.psnr_pure_synthetic_db) + "\n";
   write_text_atomically(s, path);
 }
 
@@ -195,16 +200,21 @@ int score(const ScoreOptions& so) {
   SteppedUpdater updater(p);
 
   // The truth: the whole scene (moving objects placed at each display time), no effects.
-  std::vector<std::unique_ptr<render::CpuCompositor>> truth_compositors;
-  for (int e = 0; e < 2; ++e)
+  std::vector<std::unique_ptr<render::CpuCompositor>> truth_compositors, pure_compositors;
+  for (int e = 0; e < 2; ++e) {
     truth_compositors.push_back(std::make_unique<render::CpuCompositor>(o.threads));
+    pure_compositors.push_back(std::make_unique<render::CpuCompositor>(o.threads));
+  }
   render::SyntheticScene truth_scene = p.simulation->model();
   const render::StereoRig& rig = p.frame_config.rig;
   const int eyes = rig.eye_count();
   std::vector<render::ImageRgba8> truth(static_cast<std::size_t>(eyes));
-  for (int e = 0; e < eyes; ++e)
-    truth[static_cast<std::size_t>(e)].allocate(rig.eye[static_cast<std::size_t>(e)].width,
-                                                rig.eye[static_cast<std::size_t>(e)].height);
+  std::vector<render::ImageRgba8> pure(static_cast<std::size_t>(eyes));
+  for (int e = 0; e < eyes; ++e) {
+    const core::Pinhole& eye = rig.eye[static_cast<std::size_t>(e)];
+    truth[static_cast<std::size_t>(e)].allocate(eye.width, eye.height);
+    pure[static_cast<std::size_t>(e)].allocate(eye.width, eye.height);
+  }
   const std::vector<std::string> names = p.camera_names();
 
   std::vector<ScoreRow> rows;
@@ -275,6 +285,22 @@ int score(const ScoreOptions& so) {
       r.psnr_blend_db = split.psnr_blend_db;
       r.psnr_synthetic_db = split.psnr_synthetic_db;
       r.video_fraction = split.video_fraction;
+      // The same frame (pose, model, camera and its frame) as pure model and as pure video.
+      render::CompositeRequest view = frame.last_request(e);
+      view.viewport = {0, 0, pure[ei].width, pure[ei].height};
+      view.marking.style = core::MarkingStyle::kNone;
+      view.mode = core::TransitionMode::kGlobalBlend;
+      const drivers::Frame* video = view.video;
+      view.video = nullptr;
+      view.transition = {core::Variant::kSynthetic, 0.0, 1.0};
+      pure_compositors[ei]->draw(view, pure[ei]);
+      r.psnr_pure_synthetic_db = psnr_db(pure[ei], truth[ei]);
+      if (video != nullptr && view.has_region) {
+        view.video = video;
+        view.transition = {core::Variant::kVideo, 1.0, 0.0};
+        pure_compositors[ei]->draw(view, pure[ei]);
+        r.psnr_pure_video_db = psnr_db(pure[ei], truth[ei]);
+      }
       if (so.save_frames > 0 && k % so.save_frames == 0) {
         char number_text[32];
         std::snprintf(number_text, sizeof number_text, "%06" PRIu64, k);
@@ -337,6 +363,18 @@ int score(const ScoreOptions& so) {
                    {"predictor", p.predictor},
                    {"scored_without", "marking, guidance, HUD"}};
   j["overall"] = scores_of(all);
+  std::vector<MSample> samples;
+  for (const ScoreRow& r : rows)
+    samples.push_back({r.m, r.psnr_pure_video_db, r.psnr_pure_synthetic_db});
+  const MAgainstTruth mt = m_against_truth(samples);
+  const auto or_null = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+  };
+  j["m_against_truth"] = {
+      {"eye_frames", mt.samples},
+      {"spearman_m_vs_video_error", or_null(mt.spearman)},
+      {"break_even_m", or_null(mt.break_even_m)},
+      {"note", "an image metric (PSNR against the simulator's truth), not a user study"}};
   j["by_variant"] = {{"video", scores_of(by_variant[0])},
                      {"hybrid", scores_of(by_variant[1])},
                      {"synthetic", scores_of(by_variant[2])}};
@@ -355,6 +393,12 @@ int score(const ScoreOptions& so) {
                 ov["psnr_db"]["mean"].get<double>(), ov["psnr_db"]["p5"].get<double>(),
                 ov["ssim"]["mean"].get<double>(), ov["ssim"]["p5"].get<double>(),
                 ov["gmsd"]["mean"].get<double>());
+  std::printf(
+      "  m against the truth: Spearman rho %.3f of m and the pure video view's error over "
+      "%zu eye-frames; break-even m %s\n",
+      mt.spearman, mt.samples,
+      std::isfinite(mt.break_even_m) ? fmt("%.1f px", mt.break_even_m).c_str()
+                                     : "none in the range");
   std::printf("  %" PRIu64
               " frames (%.1f s of scene) in %.1f s: %.2f x real time; the station's "
               "tick %.2f ms per frame on this machine\n",

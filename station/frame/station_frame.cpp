@@ -190,6 +190,7 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     req.marking = marking;
     req.viewport = rig.viewport(e);
     compositor_.draw(req, out_);
+    last_requests_[static_cast<std::size_t>(e)] = req;
     // Ghost frustum + arrow toward eye 0's nearest camera, seen from this eye; HUD on eye 0.
     render::Overlay ov;
     ov.eye = req.eye;

@@ -145,6 +145,12 @@ class StationFrame final : public render::FrameWork {
   /// The newest frame's geometric m per camera (worse eye) at the predicted pose, whether or
   /// not its video is usable: what bandwidth-follows-the-view decides on (CameraNeedPolicy).
   std::span<const double> view_m() const { return m_view_; }
+  /// What eye `eye` was drawn from in the newest frame (pose, model, the camera on screen or
+  /// fading out with its frame, transition): valid until the next tick. `hybrid-station score`
+  /// draws the same frame as pure video and pure model from it.
+  const render::CompositeRequest& last_request(int eye) const {
+    return last_requests_[static_cast<std::size_t>(eye)];
+  }
 
  private:
   /// What the tick knows of one camera between frames.
@@ -190,6 +196,7 @@ class StationFrame final : public render::FrameWork {
   std::vector<FrameRow> rows_;
   uint64_t rows_dropped_ = 0;
   FrameRow last_row_;
+  std::array<render::CompositeRequest, 2> last_requests_{};
 };
 
 }  // namespace hd::station

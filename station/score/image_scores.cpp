@@ -39,12 +39,10 @@ double psnr_from_mse(double mse) {
   return std::min(kPsnrCapDb, 10.0 * std::log10(255.0 * 255.0 / mse));
 }
 
-ImageScores score_image(const render::ImageRgba8& shown, const render::ImageRgba8& truth) {
+// Over all pixels and channels: QualityPSNR's per-channel figures would be averaged in dB, which
+// is not the PSNR of the picture.
+double psnr_db(const render::ImageRgba8& shown, const render::ImageRgba8& truth) {
   check_sizes(shown, truth);
-  const cv::Mat a = colour(shown), b = colour(truth);
-  ImageScores s;
-  // MSE over all pixels and channels (QualityPSNR's per-channel figures would be averaged in dB,
-  // which is not the PSNR of the picture).
   int64_t sse = 0;  // exact: at most 3 * 255^2 per pixel
   for (int y = 0; y < shown.height; ++y) {
     const uint8_t* p = shown.row(y);
@@ -54,7 +52,15 @@ ImageScores score_image(const render::ImageRgba8& shown, const render::ImageRgba
       sse += d * d;
     }
   }
-  s.psnr_db = psnr_from_mse(static_cast<double>(sse) / (3.0 * static_cast<double>(a.total())));
+  return psnr_from_mse(static_cast<double>(sse) /
+                       (3.0 * shown.width * static_cast<double>(shown.height)));
+}
+
+ImageScores score_image(const render::ImageRgba8& shown, const render::ImageRgba8& truth) {
+  check_sizes(shown, truth);
+  const cv::Mat a = colour(shown), b = colour(truth);
+  ImageScores s;
+  s.psnr_db = psnr_db(shown, truth);
   s.ssim = channel_mean(cv::quality::QualitySSIM::compute(b, a, cv::noArray()));
   s.gmsd = channel_mean(cv::quality::QualityGMSD::compute(b, a, cv::noArray()));
   return s;

@@ -30,6 +30,9 @@ struct ImageScores {
 /// The three scores of `shown` against `truth` (same size; throws std::invalid_argument).
 ImageScores score_image(const render::ImageRgba8& shown, const render::ImageRgba8& truth);
 
+/// PSNR alone (one integer pass; no SSIM or GMSD).
+double psnr_db(const render::ImageRgba8& shown, const render::ImageRgba8& truth);
+
 /// PSNR over the pixels whose mask byte is non-zero (`mask`: width x height, row-major); NaN
 /// when it selects none.
 double masked_psnr_db(const render::ImageRgba8& shown, const render::ImageRgba8& truth,

@@ -80,9 +80,9 @@ TEST_F(ScoreRun, TheSameSceneGivesTheSameScoresWhateverTheThreadCount) {
   EXPECT_EQ(a, b);
   const auto rows = rows_of(a);
   ASSERT_EQ(rows.size(), 1u + 2u * kFrames);  // header, then both eyes of every frame
-  EXPECT_EQ(rows[0],
-            split_csv_line("frame,t_s,eye,variant,camera,m,w_video,psnr_db,ssim,gmsd,"
-                           "psnr_video_db,psnr_blend_db,psnr_synthetic_db,video_fraction"));
+  EXPECT_EQ(rows[0], split_csv_line("frame,t_s,eye,variant,camera,m,w_video,psnr_db,ssim,gmsd,"
+                                    "psnr_video_db,psnr_blend_db,psnr_synthetic_db,video_fraction,"
+                                    "psnr_pure_video_db,psnr_pure_synthetic_db"));
   for (std::size_t i = 1; i < rows.size(); ++i) {
     ASSERT_EQ(rows[i].size(), rows[0].size()) << "row " << i;
     EXPECT_EQ(std::stoi(rows[i][0]), static_cast<int>((i - 1) / 2));
