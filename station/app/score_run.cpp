@@ -22,6 +22,7 @@
 #include "station/app/output_file.h"
 #include "station/app/report_text.h"
 #include "station/app/scene_locator.h"
+#include "station/app/score_plots.h"
 #include "station/app/station_config.h"
 #include "station/app/station_parts.h"
 #include "station/prediction/predictor_by_name.h"
@@ -385,6 +386,13 @@ int score(const ScoreOptions& so) {
       {"x_real_time", wall_s > 0.0 ? scene_s / wall_s : 0.0},
       {"render_ms_per_frame", frames ? 1e3 * render_s / static_cast<double>(frames) : 0.0}};
   write_text_atomically(j.dump(1) + "\n", o.out_dir + "/score.json");
+  std::vector<ScorePoint> eye0;
+  for (const ScoreRow& r : rows)
+    if (r.eye == 0)
+      eye0.push_back(
+          {r.t_s, r.variant, r.whole.psnr_db, r.m, r.psnr_pure_video_db, r.psnr_pure_synthetic_db});
+  write_png_atomically(draw_score_trace(eye0), o.out_dir + "/score_trace.png");
+  write_png_atomically(draw_m_scatter(eye0, mt.break_even_m), o.out_dir + "/m_scatter.png");
 
   const nlohmann::json& ov = j["overall"];
   std::printf("score (%s)\n", scene_path.c_str());
@@ -404,8 +412,8 @@ int score(const ScoreOptions& so) {
               "tick %.2f ms per frame on this machine\n",
               frames, scene_s, wall_s, wall_s > 0.0 ? scene_s / wall_s : 0.0,
               frames ? 1e3 * render_s / static_cast<double>(frames) : 0.0);
-  std::printf("  wrote %s/score.csv\n  wrote %s/score.json\n", o.out_dir.c_str(),
-              o.out_dir.c_str());
+  for (const char* f : {"score.csv", "score.json", "score_trace.png", "m_scatter.png"})
+    std::printf("  wrote %s/%s\n", o.out_dir.c_str(), f);
   if (so.save_frames > 0)
     std::printf("  wrote %s/NNNNNN_eyeE_{shown,truth}.png\n", frames_dir.c_str());
   return 0;

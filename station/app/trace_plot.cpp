@@ -8,9 +8,14 @@
 #include <vector>
 
 #include "station/app/output_file.h"
+#include "station/app/plot_axes.h"
 
 namespace hd::station {
 namespace {
+
+using plot::number;
+using plot::text;
+using plot::tick_step;
 
 constexpr int kLeft = 80, kRight = 20, kTop = 40, kGap = 50, kBottom = 50;
 
@@ -22,26 +27,6 @@ struct Panel {
     return area.y + area.height - static_cast<int>(std::lround(f * area.height));
   }
 };
-
-void text(cv::Mat& img, const std::string& s, cv::Point at, double scale = 0.45,
-          cv::Scalar colour = {0, 0, 0}) {
-  cv::putText(img, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
-}
-
-// A "nice" tick step (1, 2 or 5 times a power of ten) giving about `count` ticks over `span`.
-double tick_step(double span, int count) {
-  const double raw = span / std::max(count, 1);
-  const double p = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0, 10.0})
-    if (m * p >= raw) return m * p;
-  return 10.0 * p;
-}
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 }  // namespace
 

@@ -144,6 +144,24 @@ TEST_F(ScoreRun, TheSummaryHoldsTheSettingsTheScoresAndTheSpeed) {
     by_variant += j["by_variant"][v]["eye_frames"].get<int>();
   EXPECT_EQ(by_variant, 2 * kFrames);
   EXPECT_GT(j["speed"]["x_real_time"].get<double>(), 0.0);
+  // m against the truth: every eye-frame with a camera measured, and a rank correlation.
+  EXPECT_GT(j["m_against_truth"]["eye_frames"].get<int>(), 0);
+  EXPECT_LE(j["m_against_truth"]["eye_frames"].get<int>(), 2 * kFrames);
+  if (!j["m_against_truth"]["spearman_m_vs_video_error"].is_null()) {
+    EXPECT_LE(std::abs(j["m_against_truth"]["spearman_m_vs_video_error"].get<double>()), 1.0);
+  }
+}
+
+TEST_F(ScoreRun, ThePlotsAreWrittenAtTheirSizes) {
+  const cv::Mat trace = cv::imread((one() / "score_trace.png").string());
+  const cv::Mat scatter = cv::imread((one() / "m_scatter.png").string());
+  EXPECT_EQ(trace.cols, 1200);
+  EXPECT_EQ(trace.rows, 480);
+  EXPECT_EQ(scatter.cols, 900);
+  EXPECT_EQ(scatter.rows, 600);
+  // The trace's plot area is shaded by variant: not the white background.
+  const cv::Vec3b inside = trace.at<cv::Vec3b>(240, 600);
+  EXPECT_NE(inside, cv::Vec3b(255, 255, 255));
 }
 
 }  // namespace
