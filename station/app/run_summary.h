@@ -15,6 +15,28 @@
 
 namespace hd::station {
 
+// (At namespace scope, not nested: clang cannot default-construct a nested struct with member
+// initializers inside std::optional before the enclosing class is complete.)
+/// What each network camera received (its link's report, drivers/camera_link.h) and what the
+/// station made of it.
+struct NetworkCameraSummary : drivers::LinkReport {
+  uint64_t need_changes = 0;  ///< how often the view's need of it changed
+  /// Where its p_c / P_c came from at the end: "stream (revision N)", "file F", or "none
+  /// (no calibration arrived)"; frames not shown for want of one.
+  std::string calibration;
+  uint64_t frames_uncalibrated = 0;
+};
+/// One camera's run, in the station's camera order.
+struct CameraSummary {
+  std::string name;
+  uint64_t frames_shown = 0;     ///< frames in which its frame was new
+  uint64_t frames_rejected = 0;  ///< by the pipeline (wrong size / format)
+  uint64_t frames_lost = 0;      ///< by the device: sequence gaps, overruns
+  /// The stretches in which its video was withheld (too old, source not streaming).
+  std::vector<UnusableInterval> unusable;
+  std::optional<NetworkCameraSummary> network;  ///< a network camera's link
+};
+
 struct RunSummary {
   std::string source;  ///< "scene <file>" or "config <file>"
   uint64_t frames = 0;
@@ -27,25 +49,8 @@ struct RunSummary {
   uint64_t guidance_frames = 0;
   uint64_t camera_switches = 0;
   std::vector<CameraEventRecord> camera_events;  ///< format lost / restored, in the order seen
-  /// What each network camera received (its link's report, drivers/camera_link.h) and what the
-  /// station made of it.
-  struct NetworkCamera : drivers::LinkReport {
-    uint64_t need_changes = 0;  ///< how often the view's need of it changed
-    /// Where its p_c / P_c came from at the end: "stream (revision N)", "file F", or "none
-    /// (no calibration arrived)"; frames not shown for want of one.
-    std::string calibration;
-    uint64_t frames_uncalibrated = 0;
-  };
-  /// One camera's run, in the station's camera order.
-  struct Camera {
-    std::string name;
-    uint64_t frames_shown = 0;     ///< frames in which its frame was new
-    uint64_t frames_rejected = 0;  ///< by the pipeline (wrong size / format)
-    uint64_t frames_lost = 0;      ///< by the device: sequence gaps, overruns
-    /// The stretches in which its video was withheld (too old, source not streaming).
-    std::vector<UnusableInterval> unusable;
-    std::optional<NetworkCamera> network;  ///< a network camera's link
-  };
+  using NetworkCamera = NetworkCameraSummary;
+  using Camera = CameraSummary;
   std::vector<Camera> cameras;
   std::string cameras_from;  ///< --cameras-from ("": the scene's cameras simulated in-process)
   std::string scene_epoch;   ///< --scene-epoch as given ("": scene t = 0 at this run's start)
