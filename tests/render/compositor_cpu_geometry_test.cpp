@@ -50,15 +50,7 @@ TEST(CpuCompositor, TopLeftRuleCoversEachCentreOnSharedAndOuterEdgesExactlyOnce)
   const double a = (220.5 - 320.0) / 100.0, b = (420.5 - 320.0) / 100.0;
   const double c = (140.5 - 240.0) / 100.0, d = (340.5 - 240.0) / 100.0;
   scene.meshes.push_back(facing_quad(a, c, b, d, 2.0));
-  CpuCompositor comp;
-  ImageRgba8 out;
-  out.allocate(640, 480);
-  CompositeRequest req;
-  req.scene = &scene;
-  req.eye = eye;
-  req.marking.style = MarkingStyle::kNone;
-  req.viewport = {0, 0, 640, 480};
-  comp.draw(req, out);
+  const ImageRgba8 out = draw_model(scene, eye);
   int covered = 0, holes = 0;
   for (int y = 0; y < 480; ++y) {
     for (int x = 0; x < 640; ++x) {
@@ -89,15 +81,7 @@ TEST(CpuCompositor, TiltedQuadIsInterpolatedPerspectiveCorrectly) {
   }
   SyntheticScene scene;
   scene.meshes.push_back(m);
-  CpuCompositor comp;
-  ImageRgba8 out;
-  out.allocate(320, 240);
-  CompositeRequest req;
-  req.scene = &scene;
-  req.eye = eye;
-  req.marking.style = MarkingStyle::kNone;
-  req.viewport = {0, 0, 320, 240};
-  comp.draw(req, out);
+  const ImageRgba8 out = draw_model(scene, eye);
   // Rows: z = f * 0.5 / (v - cy). Check several rows against t = (z - 1) / 2 exactly.
   for (int row : {150, 160, 170, 180, 200, 220}) {
     const double v = row + 0.5;
@@ -117,16 +101,7 @@ TEST(CpuCompositor, TriangleCrossingTheNearPlaneIsClippedNotDropped) {
   SyntheticScene scene;
   scene.background_rgb = {0, 0, 0};
   scene.meshes.push_back(m);
-  CpuCompositor comp;
-  ImageRgba8 out;
-  out.allocate(320, 240);
-  CompositeRequest req;
-  req.scene = &scene;
-  req.eye = eye;
-  req.near_m = 0.1;
-  req.marking.style = MarkingStyle::kNone;
-  req.viewport = {0, 0, 320, 240};
-  comp.draw(req, out);
+  const ImageRgba8 out = draw_model(scene, eye, 0.1);
   // At the image row through the centre the wall spans u from 160 + 200*0.3/5 = 172 to the
   // right edge (u -> inf as z -> 0).
   EXPECT_TRUE(same_rgb(out.pixel(170, 120), 0, 0, 0));
@@ -147,15 +122,7 @@ TEST(CpuCompositor, NearerSurfaceWinsTheDepthTestWhateverTheDrawOrder) {
     SyntheticScene scene;
     scene.meshes =
         order ? std::vector<TexturedMesh>{near_q, far_q} : std::vector<TexturedMesh>{far_q, near_q};
-    CpuCompositor comp;
-    ImageRgba8 out;
-    out.allocate(160, 120);
-    CompositeRequest req;
-    req.scene = &scene;
-    req.eye = eye;
-    req.marking.style = MarkingStyle::kNone;
-    req.viewport = {0, 0, 160, 120};
-    comp.draw(req, out);
+    const ImageRgba8 out = draw_model(scene, eye);
     // Inside the near quad's top-left (red) block; the far quad is all green.
     const uint8_t* p = out.pixel(50, 30);
     EXPECT_TRUE(same_rgb(p, 250, 0, 0)) << order;

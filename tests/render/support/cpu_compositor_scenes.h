@@ -28,6 +28,22 @@ inline Pinhole pinhole(double f, int w, int h) {
   return Pinhole::centred(f, w, h);
 }
 
+// The model alone as the eye sees it (no video, no marking), at the eye's size.
+inline ImageRgba8 draw_model(const SyntheticScene& scene, const Pinhole& eye,
+                             double near_m = 0.05) {
+  CpuCompositor comp;
+  ImageRgba8 out;
+  out.allocate(eye.width, eye.height);
+  CompositeRequest req;
+  req.scene = &scene;
+  req.eye = eye;
+  req.near_m = near_m;
+  req.marking.style = MarkingStyle::kNone;
+  req.viewport = {0, 0, eye.width, eye.height};
+  comp.draw(req, out);
+  return out;
+}
+
 // A frame whose every pixel has a distinct, position-coded colour.
 inline Frame coded_frame(int w, int h) {
   Frame f;
