@@ -2,11 +2,13 @@
 // reported with the file, line and field where it is.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "sim/primitive_meshes.h"
 #include "sim/scene/scene_file.h"
 #include "test_paths.h"
 
@@ -62,7 +64,12 @@ TEST(SceneFile, DefaultSceneRoundTrip) {
   ASSERT_EQ(s.geometry.size(), 2u);
   EXPECT_EQ(s.geometry[0].shape, ScenePrimitive::Shape::kQuad);
   EXPECT_EQ(s.geometry[0].size_m, Eigen::Vector3d(1.6, 1.0, 0.0));
-  EXPECT_EQ(s.geometry[0].texture.color0, (std::array<uint8_t, 3>{170, 130, 90}));
+  // Table and wall wear photographs (scenes/textures/SOURCE.md), named relative to the scene file.
+  EXPECT_EQ(s.geometry[0].texture.kind, SceneTexture::Kind::kImage);
+  EXPECT_EQ(s.geometry[0].texture.image_path,
+            (kScenes / "textures" / "aloe-cloth-table.png").lexically_normal().string());
+  EXPECT_EQ(s.geometry[1].texture.image_path,
+            (kScenes / "textures" / "aloe-wall.png").lexically_normal().string());
   ASSERT_EQ(s.objects.size(), 2u);
   EXPECT_EQ(s.objects[1].carrier, "gripper");
   EXPECT_DOUBLE_EQ(s.objects[1].pick_s, 4.0);
@@ -120,6 +127,54 @@ struct Broken {
   const char* field;
   const char* why_contains;
 };
+
+TEST(SceneFile, ShippedPhotoTexturesFitTheirSurfaces) {
+  // Each scene's image textures decode, with the aspect ratio of the quad they cover: texels are
+  // square on it, so the photograph is not stretched.
+  for (const char* name : {"default.yaml", "all-effects.yaml"}) {
+    SCOPED_TRACE(name);
+    const std::string file = (kScenes / name).string();
+    const Scene s = load_scene(file);
+    int images = 0;
+    for (const ScenePrimitive& p : s.geometry) {
+      if (p.texture.kind != SceneTexture::Kind::kImage) continue;
+      SCOPED_TRACE(p.name);
+      ++images;
+      const std::vector<render::TexturedMesh> meshes = primitive_meshes(p, file);
+      ASSERT_EQ(meshes.size(), 1u);  // a quad
+      const render::ImageRgba8& t = meshes[0].texture;
+      ASSERT_GT(t.width, 0);
+      ASSERT_GT(t.height, 0);
+      const double texel_x_m = p.size_m.x() / t.width, texel_y_m = p.size_m.y() / t.height;
+      EXPECT_NEAR(texel_x_m / texel_y_m, 1.0, 0.01);
+    }
+    EXPECT_EQ(images, 2);  // table and back wall
+  }
+}
+
+TEST(SceneFile, ImageTextureIsReadRelativeToTheSceneFile) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("scene_file_image_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "tex");
+  std::filesystem::copy_file(kScenes / "textures" / "aloe-wall.png", dir / "tex" / "w.png",
+                             std::filesystem::copy_options::overwrite_existing);
+  const std::string wall =
+      "geometry:\n  - {name: w, shape: quad, center: [0, 0, 2], size: [2.4, 1.3],\n"
+      "     texture: {type: image, file: tex/w.png}}\n";
+  const Scene s = parse_scene(kMinimal + wall, (dir / "s.yaml").string());
+  ASSERT_EQ(s.geometry.size(), 1u);
+  EXPECT_EQ(s.geometry[0].texture.image_path, (dir / "tex" / "w.png").string());
+  // Relative to the scene's folder, not the current directory: elsewhere it is not found.
+  try {
+    parse_scene(kMinimal + wall, "/nonexistent-dir/s.yaml");
+    ADD_FAILURE() << "accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.line(), 15) << e.what();
+    EXPECT_EQ(e.field(), "geometry[0].texture.file") << e.what();
+    EXPECT_NE(e.why().find("not found"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
 
 TEST(SceneFile, BrokenFilesNameLineAndField) {
   const std::vector<Broken> cases = {

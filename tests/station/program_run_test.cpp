@@ -299,6 +299,8 @@ TEST_F(StationRunTest, BrokenSceneExitsWithFileLineAndField) {
   text += "bogus_key: 1\n";
   const fs::path scene = dir_ / "broken.yaml";
   std::ofstream(scene) << text;
+  // Its image textures are named relative to the scene file: beside the copy, they are found.
+  fs::copy(fs::path(hd::test::source_dir()) / "scenes" / "textures", dir_ / "textures");
   const Result r = run("--scene '" + scene.string() + "' --headless --frames 5 --out '" +
                        (dir_ / "out").string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;

@@ -109,6 +109,8 @@ TEST(StationTwoProcesses, TheRemotesCamerasAreShownReconstructedAndNeverShownOld
   scene = replaced(scene, "model_staleness: {period_s: 2, delay_s: 0.3}",
                    "model_staleness: {period_s: 1, delay_s: 0.1}");
   std::ofstream(dir / "scene.yaml") << scene;
+  // Its image textures are named relative to the scene file: beside the copy, they are found.
+  fs::copy(fs::path(hd::test::source_dir()) / "scenes" / "textures", dir / "textures");
   const uint16_t port = free_port_run(6);
   ASSERT_NE(port, 0);
   const std::string to = "rtp://127.0.0.1:" + std::to_string(port);
