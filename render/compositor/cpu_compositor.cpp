@@ -83,6 +83,11 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   out_ = &out;
   const std::size_t picture = static_cast<std::size_t>(out.width) * out.height;
   if (weight_map_ != nullptr && weight_map_->size() != picture) weight_map_->assign(picture, 0);
+  if (model_only_ != nullptr &&
+      (model_only_->width != out.width || model_only_->height != out.height))
+    model_only_->allocate(out.width, out.height);
+  if (position_map_ != nullptr && position_map_->size() != 2 * picture)
+    position_map_->assign(2 * picture, NAN);
   scene_ = req.scene ? req.scene : &empty_scene();
   video_on_ = false;
   if (req.video != nullptr && req.has_region) {
@@ -102,6 +107,18 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   ++stats_.frames_drawn;
   req_ = nullptr;
   out_ = nullptr;
+}
+
+void CpuCompositor::record_positions(int y, const float* u, const float* v, const float* a) {
+  const CompositeRequest& req = *req_;
+  float* p =
+      position_map_->data() + 2 * (static_cast<std::size_t>(req.viewport.y + y) * out_->width +
+                                   static_cast<std::size_t>(req.viewport.x));
+  for (int x = 0; x < req.viewport.width; ++x) {
+    const bool sees = a != nullptr && a[x] > 0.0f;
+    p[2 * x] = sees ? u[x] : NAN;
+    p[2 * x + 1] = sees ? v[x] : NAN;
+  }
 }
 
 void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
@@ -231,6 +248,8 @@ void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
         rw.bw = H(2, 1) * pv + H(2, 2);
         rw.bz = q(1) * pv + q(2);
         warp_row(rw, W, su_group + off, sv_group + off, sa_group + off);
+        if (position_map_ != nullptr)
+          record_positions(y_group + r, su_group + off, sv_group + off, sa_group + off);
         if (per_pixel) border.apply_row(W, su_group + off, sv_group + off, sa_group + off);
         // Rounding (not truncating) to 1/256 px keeps an exact texel centre exact; u, v >= 0,
         // so the +256 offset keeps the truncated value positive.
@@ -263,6 +282,10 @@ void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
       // out = s + a (v - s) with the marked model colour s, four pixels at a time.
       blend.checker_row = y / cell;
       blend_row_sse2(blend, 0, W, srow, drow, any_video ? sa : nullptr, vid, orow);
+      if (model_only_ != nullptr)
+        blend_row_sse2(blend, 0, W, srow, drow, nullptr, vid,
+                       model_only_->pixel(req.viewport.x, req.viewport.y + y));
+      if (position_map_ != nullptr && !any_video) record_positions(y, nullptr, nullptr, nullptr);
       if (weight_map_ != nullptr) {
         uint8_t* wrow = weight_map_->data() +
                         static_cast<std::size_t>(req.viewport.y + y) * out_->width +

@@ -42,11 +42,23 @@ class CpuCompositor final : public Compositor {
   /// stops it. For `hybrid-station score`, which splits its error by what each pixel showed; costs
   /// nothing when off.
   void record_video_weight(std::vector<uint8_t>* map) { weight_map_ = map; }
+  /// Keeps, beside the picture, the same picture with no video in it (a = 0 everywhere: the
+  /// model view), resized to the output picture; nullptr stops it. One draw then gives
+  /// `hybrid-station score` both pure views: the picture at global weight 1 and this one.
+  void record_model_only(ImageRgba8* picture) { model_only_ = picture; }
+  /// Keeps where each output pixel samples the video frame, (u, v) in frame pixels at
+  /// map[2 (y width + x)], wherever the warp sees the frame (before the per-pixel border weight),
+  /// NaN elsewhere; resized to the output picture. For replaying the per-pixel blend at other
+  /// weights (station/score/blend_error_model.h).
+  void record_video_positions(std::vector<float>* map) { position_map_ = map; }
 
  private:
   struct Frame;  // per-draw constants shared by the bands
   /// Rows [row_begin, row_end) with band `band`'s scratch (0: the caller's, 1: the worker's).
   void draw_band(int row_begin, int row_end, int band);
+  /// Row y of the viewport into position_map_: (u, v) where a > 0, NaN elsewhere (u == nullptr:
+  /// the whole row NaN).
+  void record_positions(int y, const float* u, const float* v, const float* a);
 
   MeshRasterizer rasterizer_;
   std::vector<uint8_t> synth_rgba_;  ///< viewport-sized synthetic colour
@@ -62,6 +74,8 @@ class CpuCompositor final : public Compositor {
   VideoWarp warp_;
   bool video_on_ = false;
   std::vector<uint8_t>* weight_map_ = nullptr;
+  ImageRgba8* model_only_ = nullptr;
+  std::vector<float>* position_map_ = nullptr;
 
   std::unique_ptr<lens::CpuPredistorter> lens_;
 

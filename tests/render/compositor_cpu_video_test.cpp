@@ -180,3 +180,50 @@ TEST(CpuCompositor, GlobalBlendMixesVideoAndModelByWVideo) {
 }
 
 }  // namespace
+
+namespace {
+
+// What `hybrid-station score` keeps of a draw: the model view is the model drawn alone, and the
+// positions are where the analytic ray/plane mapping meets the frame (NaN where it misses).
+TEST(CpuCompositor, TheRecordsKeepTheModelViewAndWhereTheVideoWasSampled) {
+  const Pinhole eye = pinhole(300.0, 160, 120);
+  const Pinhole real = pinhole(500.0, 160, 120);  // narrower: the video covers the middle
+  const Frame frame = coded_frame(160, 120);
+  SyntheticScene scene;
+  scene.background_rgb = {1, 2, 3};
+  scene.meshes.push_back(facing_quad(-0.6, -0.4, 0.5, 0.45, 2.5));
+  for (int threads : {1, 2}) {
+    CpuCompositor comp(threads);
+    ImageRgba8 out, model;
+    std::vector<float> positions;
+    comp.record_model_only(&model);
+    comp.record_video_positions(&positions);
+    out.allocate(160, 120);
+    CompositeRequest req = video_request(eye, &frame, real);
+    req.scene = &scene;
+    comp.draw(req, out);
+    EXPECT_EQ(model.data, draw_model(scene, eye).data) << "threads " << threads;
+    ASSERT_EQ(positions.size(), 2u * 160 * 120);
+    int inside = 0, outside = 0, wrong = 0;
+    for (int y = 0; y < 120; ++y)
+      for (int x = 0; x < 160; ++x) {
+        double u = 0, v = 0;
+        analytic_real_pixel(eye, Pose::identity(), real, Pose::identity(), 2.0, x, y, &u, &v);
+        const float pu = positions[2 * (y * 160 + x)], pv = positions[2 * (y * 160 + x) + 1];
+        if (u < 0.01 || v < 0.01 || u > 159.99 || v > 119.99) {  // clear of the frame's edge
+          if (u < -0.01 || v < -0.01 || u > 160.01 || v > 120.01) {
+            ++outside;
+            wrong += std::isnan(pu) && std::isnan(pv) ? 0 : 1;
+          }
+          continue;
+        }
+        ++inside;
+        wrong += std::abs(pu - u) < 1e-3 && std::abs(pv - v) < 1e-3 ? 0 : 1;
+      }
+    EXPECT_GT(inside, 5000);
+    EXPECT_GT(outside, 5000);
+    EXPECT_EQ(wrong, 0) << "threads " << threads;
+  }
+}
+
+}  // namespace
