@@ -11,14 +11,13 @@
 namespace hd::station {
 namespace {
 
-// The picture's colour channels as a 3-channel Mat (a copy: the quality module wants BGR-like
-// continuous 8-bit data, and alpha must not count).
-cv::Mat colour(const render::ImageRgba8& im) {
+// The picture's luma, Y = 0.299 R + 0.587 G + 0.114 B (BT.601, OpenCV's RGBA2GRAY), 8-bit.
+cv::Mat luma(const render::ImageRgba8& im) {
   const cv::Mat rgba(im.height, im.width, CV_8UC4, const_cast<uint8_t*>(im.data.data()),
                      static_cast<std::size_t>(im.stride_bytes));
-  cv::Mat rgb;
-  cv::cvtColor(rgba, rgb, cv::COLOR_RGBA2RGB);
-  return rgb;
+  cv::Mat y;
+  cv::cvtColor(rgba, y, cv::COLOR_RGBA2GRAY);
+  return y;
 }
 
 void check_sizes(const render::ImageRgba8& a, const render::ImageRgba8& b) {
@@ -26,10 +25,6 @@ void check_sizes(const render::ImageRgba8& a, const render::ImageRgba8& b) {
     throw std::invalid_argument("score: pictures of different sizes (" + std::to_string(a.width) +
                                 "x" + std::to_string(a.height) + " against " +
                                 std::to_string(b.width) + "x" + std::to_string(b.height) + ")");
-}
-
-double channel_mean(const cv::Scalar& s) {
-  return (s[0] + s[1] + s[2]) / 3.0;
 }
 
 }  // namespace
@@ -58,11 +53,11 @@ double psnr_db(const render::ImageRgba8& shown, const render::ImageRgba8& truth)
 
 ImageScores score_image(const render::ImageRgba8& shown, const render::ImageRgba8& truth) {
   check_sizes(shown, truth);
-  const cv::Mat a = colour(shown), b = colour(truth);
+  const cv::Mat a = luma(shown), b = luma(truth);
   ImageScores s;
   s.psnr_db = psnr_db(shown, truth);
-  s.ssim = channel_mean(cv::quality::QualitySSIM::compute(b, a, cv::noArray()));
-  s.gmsd = channel_mean(cv::quality::QualityGMSD::compute(b, a, cv::noArray()));
+  s.ssim = cv::quality::QualitySSIM::compute(b, a, cv::noArray())[0];
+  s.gmsd = cv::quality::QualityGMSD::compute(b, a, cv::noArray())[0];
   return s;
 }
 

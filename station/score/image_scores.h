@@ -6,8 +6,10 @@
 // Pictures are RGBA8 as the compositor draws them; alpha is ignored and the three colour channels
 // count alike. PSNR = 10 log10(255^2 / MSE) over every selected pixel and channel. Two identical
 // pictures would give +inf; they give kPsnrCapDb instead, so means and percentiles over a run stay
-// finite (a frame at the cap is exact to the last bit). SSIM and GMSD are the means of the three
-// channels' scores: SSIM 1 and GMSD 0 mean identical.
+// finite (a frame at the cap is exact to the last bit). SSIM and GMSD are computed on the luma
+// (BT.601, cv::COLOR_RGBA2GRAY), as both metrics' authors define them for grey pictures and as
+// video quality tools report them: colour errors count through PSNR. SSIM 1 and GMSD 0 mean
+// identical.
 
 #include <cstdint>
 #include <span>

@@ -36,6 +36,31 @@ TEST(ImageScores, IdenticalPicturesScoreTheCapOneAndZero) {
   EXPECT_NEAR(s.gmsd, 0.0, 1e-9);
 }
 
+// Two flat pictures: SSIM is its closed form (2 mu_x mu_y + C1) / (mu_x^2 + mu_y^2 + C1) with
+// C1 = (0.01 * 255)^2 (the contrast and structure terms are 1: no variance), of the luma.
+TEST(ImageScores, SsimOfTwoFlatPicturesIsTheClosedFormOfTheirLuma) {
+  const render::ImageRgba8 truth = filled(64, 48, 100), shown = filled(64, 48, 110);
+  const double c1 = (0.01 * 255) * (0.01 * 255);
+  EXPECT_NEAR(score_image(shown, truth).ssim,
+              (2.0 * 100 * 110 + c1) / (100.0 * 100 + 110.0 * 110 + c1), 1e-6);
+}
+
+// A colour change that keeps the luma (BT.601: 0.299 R + 0.587 G + 0.114 B) is seen by PSNR
+// only: SSIM and GMSD are computed on the luma.
+TEST(ImageScores, SsimAndGmsdSeeTheLumaOnly) {
+  const render::ImageRgba8 truth = filled(64, 48, 100);
+  render::ImageRgba8 shown = truth;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) {
+      shown.pixel(x, y)[0] = 110;  // 0.299 * 110 + 0.587 * 95 + 0.114 * 100 = 100.06
+      shown.pixel(x, y)[1] = 95;
+    }
+  const ImageScores s = score_image(shown, truth);
+  EXPECT_LT(s.psnr_db, 40.0);
+  EXPECT_NEAR(s.ssim, 1.0, 1e-9);
+  EXPECT_NEAR(s.gmsd, 0.0, 1e-9);
+}
+
 TEST(ImageScores, PsnrAgreesWithOpenCvsOwnOnRandomPictures) {
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> v(0, 255);
