@@ -21,8 +21,10 @@ const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
       "  hybrid-station score --out out/score\n"
       "  hybrid-station score --scene scenes/default.yaml --transition abrupt --save-frames 90 "
       "--out out/score-abrupt\n"
-      "Writes DIR/score.csv (one row per frame and eye) and DIR/score.json (means and "
-      "percentiles, overall and by variant, the settings and the run's speed).\n"
+      "Writes DIR/score.csv (one row per frame and eye), DIR/score.json (means and "
+      "percentiles, overall and by variant, the settings, m against the truth, the best m_t "
+      "and eps per transition mode, and the run's speed), DIR/tuning.csv (every m_t and eps "
+      "replayed over the run) and the plots score_trace.png and m_scatter.png.\n"
       "Exit codes: 0 done, 1 runtime failure, 2 bad scene file (file:line:col: field).");
   cmd->add_option("--scene", o.scene_path,
                   "Scene file (default: scenes/default.yaml, from the current directory or the "
@@ -44,7 +46,11 @@ const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
   cmd->add_option("--eps", o.eps, "Transition half band eps (px)")->check(CLI::Range(0.0, 1e6));
   cmd->add_option("--transition", o.transition_mode, "abrupt | global_blend | per_pixel")
       ->check(CLI::IsMember(transition_mode_names()));
-  cmd->add_option("--threads", o.threads, "CPU compositor threads")->check(CLI::Range(1, 8));
+  // Rendering cost never moves the scene's clock, so the run may use every core it has.
+  o.threads = 2;
+  cmd->add_option("--threads", o.threads, "CPU compositor threads (the scores do not depend on it)")
+      ->check(CLI::Range(1, 8))
+      ->capture_default_str();
   cmd->add_option("--save-frames", opts->save_frames,
                   "Every Nth frame: DIR/frames/NNNNNN_eyeE_shown.png and _truth.png");
   cmd->callback([opts, &exit_code] { exit_code = run_score(*opts); });

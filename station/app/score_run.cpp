@@ -22,33 +22,18 @@
 #include "station/app/output_file.h"
 #include "station/app/report_text.h"
 #include "station/app/scene_locator.h"
+#include "station/app/score_outputs.h"
 #include "station/app/score_plots.h"
 #include "station/app/station_config.h"
 #include "station/app/station_parts.h"
+#include "station/app/stepped_model_updater.h"
 #include "station/prediction/predictor_by_name.h"
 #include "station/score/image_scores.h"
 #include "station/score/m_against_truth.h"
+#include "station/score/transition_tuning.h"
 
 namespace hd::station {
 namespace {
-
-// One eye of one frame.
-struct ScoreRow {
-  uint64_t frame = 0;
-  double t_s = 0.0;  ///< scene time of its display
-  int eye = 0;
-  core::Variant variant = core::Variant::kSynthetic;
-  std::string camera;  ///< the camera whose video is drawn ("" none)
-  double m = NAN, w_video = 0.0;
-  ImageScores whole;
-  /// PSNR over the pixels that showed video only (weight 1), a blend (0 < weight < 1), the model
-  /// only (weight 0); NaN when there were none.
-  double psnr_video_db = NAN, psnr_blend_db = NAN, psnr_synthetic_db = NAN;
-  double video_fraction = 0.0;  ///< the mean per-pixel video weight
-  /// The same frame drawn as pure video (the camera on screen, or the one chosen, at weight 1)
-  /// and as pure model; NaN for pure video when no camera was usable.
-  double psnr_pure_video_db = NAN, psnr_pure_synthetic_db = NAN;
-};
 
 render::ImageRgba8 crop(const render::ImageRgba8& im, const render::Viewport& vp) {
   render::ImageRgba8 out;
@@ -57,91 +42,6 @@ render::ImageRgba8 crop(const render::ImageRgba8& im, const render::Viewport& vp
     std::copy_n(im.row(vp.y + y) + 4 * vp.x, 4 * vp.width, out.row(y));
   return out;
 }
-
-std::string number(double v, const char* f = "%.4f") {
-  return std::isfinite(v) ? fmt(f, v) : std::string();
-}
-
-void write_csv(const std::vector<ScoreRow>& rows, const std::string& path) {
-  std::string s =
-      "frame,t_s,eye,variant,camera,m,w_video,psnr_db,ssim,gmsd,psnr_video_db,psnr_blend_db,"
-      "psnr_synthetic_db,video_fraction,psnr_pure_video_db,psnr_pure_synthetic_db\n";
-  for (const ScoreRow& r : rows)
-    s += std::to_string(r.frame) + "," + fmt("%.6f", r.t_s) + "," + std::to_string(r.eye) + "," +
-         variant_name(r.variant) + "," + r.camera + "," + number(r.m, "%.3f") + "," +
-         fmt("%.4f", r.w_video) + "," + number(r.whole.psnr_db) + "," +
-         number(r.whole.ssim, "%.5f") + "," + number(r.whole.gmsd, "%.5f") + "," +
-         number(r.psnr_video_db) + "," + number(r.psnr_blend_db) + "," +
-         number(r.psnr_synthetic_db) + "," + fmt("%.4f", r.video_fraction) + "," +
-         number(r.psnr_pure_video_db) + "," + number(r.psnr_pure_synthetic_db) + "\n";
-  write_text_atomically(s, path);
-}
-
-// Mean and percentiles of the finite values (p5: the bad frames of a "higher is better" score).
-nlohmann::json distribution(std::vector<double> v) {
-  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
-  if (v.empty()) return {{"count", 0}};
-  std::sort(v.begin(), v.end());
-  const auto at = [&](double q) {
-    return v[static_cast<std::size_t>(std::floor(q * static_cast<double>(v.size() - 1)))];
-  };
-  double sum = 0.0;
-  for (double x : v) sum += x;
-  return {{"count", v.size()},
-          {"mean", sum / static_cast<double>(v.size())},
-          {"p5", at(0.05)},
-          {"p50", at(0.5)},
-          {"p95", at(0.95)}};
-}
-
-nlohmann::json scores_of(const std::vector<const ScoreRow*>& rows) {
-  std::vector<double> psnr, ssim, gmsd, pv, ps, vf;
-  for (const ScoreRow* r : rows) {
-    psnr.push_back(r->whole.psnr_db);
-    ssim.push_back(r->whole.ssim);
-    gmsd.push_back(r->whole.gmsd);
-    pv.push_back(r->psnr_video_db);
-    ps.push_back(r->psnr_synthetic_db);
-    vf.push_back(r->video_fraction);
-  }
-  return {{"eye_frames", rows.size()},         {"psnr_db", distribution(psnr)},
-          {"ssim", distribution(ssim)},        {"gmsd", distribution(gmsd)},
-          {"psnr_video_db", distribution(pv)}, {"psnr_synthetic_db", distribution(ps)},
-          {"video_fraction", distribution(vf)}};
-}
-
-// The model updater on the scene's clock: frames taken every refresh period (on its grid from
-// the first frame, missed slots skipped as its thread does), published the model's delay later.
-class SteppedUpdater {
- public:
-  explicit SteppedUpdater(StationParts& p) : p_(p) {
-    if (!p.updater) return;
-    period_ns_ = std::llround(p.updater->config().refresh_period_s * 1e9);
-    delay_ns_ = std::llround(p.updater->config().delay_s * 1e9);
-  }
-  void advance_to(int64_t now_ns) {
-    if (!p_.updater) return;
-    auto& clock = static_cast<render::SteppedLoopClock&>(*p_.updater_clock);
-    if (!pending_ && (next_ns_ == 0 || now_ns >= next_ns_)) {
-      if (next_ns_ == 0) next_ns_ = now_ns;
-      clock.set_ns(now_ns);
-      pending_ = p_.updater->take_update();
-      finish_ns_ = now_ns + delay_ns_;
-      while (next_ns_ <= now_ns) next_ns_ += period_ns_;
-    }
-    if (pending_ && now_ns >= finish_ns_) {
-      clock.set_ns(now_ns);
-      p_.updater->finish_update();
-      pending_ = false;
-    }
-  }
-
- private:
-  StationParts& p_;
-  int64_t period_ns_ = 0, delay_ns_ = 0;
-  int64_t next_ns_ = 0, finish_ns_ = 0;
-  bool pending_ = false;
-};
 
 int score(const ScoreOptions& so) {
   namespace fs = std::filesystem;
@@ -198,7 +98,7 @@ int score(const ScoreOptions& so) {
   StationFrame frame(p.frame_config, p.calibrated_cameras(), *p.head, *predictor, compositor,
                      &p.model, clock, latency);
   if (p.updater) frame.set_model_updater(p.updater.get());
-  SteppedUpdater updater(p);
+  SteppedModelUpdater updater(p);
 
   // The truth: the whole scene (moving objects placed at each display time), no effects.
   std::vector<std::unique_ptr<render::CpuCompositor>> truth_compositors, pure_compositors;
@@ -211,40 +111,88 @@ int score(const ScoreOptions& so) {
   const int eyes = rig.eye_count();
   std::vector<render::ImageRgba8> truth(static_cast<std::size_t>(eyes));
   std::vector<render::ImageRgba8> pure(static_cast<std::size_t>(eyes));
+  std::vector<render::ImageRgba8> pure_model(static_cast<std::size_t>(eyes));
+  std::vector<std::vector<float>> positions(static_cast<std::size_t>(eyes));
+  std::vector<BlendErrorModel> error_models(static_cast<std::size_t>(eyes));
   for (int e = 0; e < eyes; ++e) {
-    const core::Pinhole& eye = rig.eye[static_cast<std::size_t>(e)];
-    truth[static_cast<std::size_t>(e)].allocate(eye.width, eye.height);
-    pure[static_cast<std::size_t>(e)].allocate(eye.width, eye.height);
+    const std::size_t ei = static_cast<std::size_t>(e);
+    const core::Pinhole& eye = rig.eye[ei];
+    truth[ei].allocate(eye.width, eye.height);
+    pure[ei].allocate(eye.width, eye.height);
+    pure_compositors[ei]->record_model_only(&pure_model[ei]);
+    pure_compositors[ei]->record_video_positions(&positions[ei]);
   }
+  // Every candidate m_t and eps replayed over this run's frames, the run's own among them (its
+  // replay is checked against the pictures the station drew).
+  std::vector<TuningCandidate> grid = TransitionTuner::default_grid();
+  const core::TransitionParams& own = p.frame_config.transition;
+  grid.push_back({own.mode, own.m_t, own.eps});
+  const std::size_t own_candidate = grid.size() - 1;
+  TransitionTuner tuner(grid, own);
+  std::vector<std::vector<double>> tuning_scores(static_cast<std::size_t>(eyes));
   const std::vector<std::string> names = p.camera_names();
 
   std::vector<ScoreRow> rows;
   rows.reserve(static_cast<std::size_t>(frames) * static_cast<std::size_t>(eyes));
   p.start();
   const auto wall_start = std::chrono::steady_clock::now();
-  double render_s = 0.0;
+  // Where the machine's time goes, per stage (CLOCK_MONOTONIC; never the scene's clock).
+  double devices_s = 0.0, pipelines_s = 0.0, model_s = 0.0, render_s = 0.0, scoring_s = 0.0;
+  const auto timed = [](double& total, auto&& work) {
+    const auto t0 = std::chrono::steady_clock::now();
+    work();
+    total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  // The stepped cameras (each renders with its own renderer); cameras_s is kept by one thread
+  // at a time.
+  double cameras_s = 0.0;
+  const auto advance_cameras = [&](int64_t to_ns) {
+    timed(cameras_s, [&] {
+      for (auto& cam : p.stepped->cameras) cam->advance_to(to_ns);
+    });
+  };
   uint64_t next_progress = std::max<uint64_t>(1, frames / 10);
   for (uint64_t k = 0; k < frames; ++k) {
     const int64_t start = epoch + static_cast<int64_t>(k) * period_ns;
     clock.set_ns(start);
-    for (auto& cam : p.stepped->cameras) cam->advance_to(start);
-    for (StationCamera& c : p.cameras)
-      while (c.pipeline->process_one()) {
-      }
-    p.stepped->head->advance_to(start);
-    p.head->pump();
-    updater.advance_to(start);
+    // The cameras were advanced to this frame's start beside the last frame's scoring.
+    if (k == 0) advance_cameras(start);
+    timed(devices_s, [&] {
+      p.stepped->head->advance_to(start);
+      p.head->pump();
+    });
+    timed(pipelines_s, [&] {
+      for (StationCamera& c : p.cameras)
+        while (c.pipeline->process_one()) {
+        }
+    });
+    timed(model_s, [&] { updater.advance_to(start); });
     render::FrameTiming t;
     t.frame = k;
     t.start_ns = start;
     t.deadline_ns = start + period_ns;
     t.display_ns = t.deadline_ns + scanout_ns;
     t.dt_s = k ? 1e-9 * static_cast<double>(period_ns) : 0.0;
-    const auto r0 = std::chrono::steady_clock::now();
-    frame.tick(t);
-    const double tick_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
-    render_s += tick_s;
+    timed(render_s, [&] { frame.tick(t); });
+    const auto scoring_start = std::chrono::steady_clock::now();
+    // The remote site renders the next frame's camera pictures meanwhile: they go only into the
+    // cameras' own mailboxes, which nothing reads until the pipelines' next step.
+    std::exception_ptr cameras_failed;
+    std::thread next_cameras;
+    if (k + 1 < frames)
+      next_cameras = std::thread([&, next = start + period_ns] {
+        try {
+          advance_cameras(next);
+        } catch (...) {
+          cameras_failed = std::current_exception();
+        }
+      });
+    struct Join {
+      std::thread& t;
+      ~Join() {
+        if (t.joinable()) t.join();
+      }
+    } join_cameras{next_cameras};
 
     const double t_display_s = 1e-9 * static_cast<double>(t.display_ns - epoch);
     p.simulation->place_objects(truth_scene, t_display_s);
@@ -255,6 +203,7 @@ int score(const ScoreOptions& so) {
     // The eyes are scored side by side (the truth render and the scores are most of the time);
     // each has its own compositor and writes only its own row.
     ScoreRow eye_rows[2];
+    tuner.begin_frame(fr.m, t.dt_s, fr.w_cap);
     const auto score_eye = [&](int e) {
       const std::size_t ei = static_cast<std::size_t>(e);
       render::CompositeRequest req;
@@ -286,22 +235,22 @@ int score(const ScoreOptions& so) {
       r.psnr_blend_db = split.psnr_blend_db;
       r.psnr_synthetic_db = split.psnr_synthetic_db;
       r.video_fraction = split.video_fraction;
-      // The same frame (pose, model, camera and its frame) as pure model and as pure video.
+      // The same frame (pose, model, camera and its frame) as pure video at global weight 1 and,
+      // from the same draw, as pure model.
       render::CompositeRequest view = frame.last_request(e);
       view.viewport = {0, 0, pure[ei].width, pure[ei].height};
       view.marking.style = core::MarkingStyle::kNone;
       view.mode = core::TransitionMode::kGlobalBlend;
-      const drivers::Frame* video = view.video;
-      view.video = nullptr;
-      view.transition = {core::Variant::kSynthetic, 0.0, 1.0};
+      view.transition = {core::Variant::kVideo, 1.0, 0.0};
+      const bool has_video = view.video != nullptr && view.has_region;
       pure_compositors[ei]->draw(view, pure[ei]);
-      r.psnr_pure_synthetic_db = psnr_db(pure[ei], truth[ei]);
-      if (video != nullptr && view.has_region) {
-        view.video = video;
-        view.transition = {core::Variant::kVideo, 1.0, 0.0};
-        pure_compositors[ei]->draw(view, pure[ei]);
-        r.psnr_pure_video_db = psnr_db(pure[ei], truth[ei]);
-      }
+      BlendErrorModel& model = error_models[ei];
+      model.build(truth[ei], pure_model[ei], pure[ei], has_video ? positions[ei].data() : nullptr,
+                  has_video ? view.video->width : 0, has_video ? view.video->height : 0);
+      // The pure views' errors are the error model at weights 0 and 1 (the same integer sums).
+      r.psnr_pure_synthetic_db = model.psnr_db(core::TransitionMode::kGlobalBlend, 0.0);
+      if (has_video) r.psnr_pure_video_db = model.psnr_db(core::TransitionMode::kGlobalBlend, 1.0);
+      tuner.score_eye(model, tuning_scores[ei]);
       if (so.save_frames > 0 && k % so.save_frames == 0) {
         char number_text[32];
         std::snprintf(number_text, sizeof number_text, "%06" PRIu64, k);
@@ -329,6 +278,11 @@ int score(const ScoreOptions& so) {
       score_eye(0);
     }
     for (int e = 0; e < eyes; ++e) rows.push_back(std::move(eye_rows[e]));
+    tuner.end_frame(tuning_scores, error_models[0].has_video());
+    if (next_cameras.joinable()) next_cameras.join();
+    if (cameras_failed) std::rethrow_exception(cameras_failed);
+    scoring_s +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - scoring_start).count();
     if (k + 1 >= next_progress || k + 1 == frames) {
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -344,8 +298,11 @@ int score(const ScoreOptions& so) {
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   const double scene_s = static_cast<double>(frames) / p.rate_hz;
+  const auto per_frame_ms = [&](double s) {
+    return frames ? 1e3 * s / static_cast<double>(frames) : 0.0;
+  };
 
-  write_csv(rows, o.out_dir + "/score.csv");
+  write_score_csv(rows, o.out_dir + "/score.csv");
   std::vector<const ScoreRow*> all, by_variant[3];
   for (const ScoreRow& r : rows) {
     all.push_back(&r);
@@ -376,15 +333,54 @@ int score(const ScoreOptions& so) {
       {"spearman_m_vs_video_error", or_null(mt.spearman)},
       {"break_even_m", or_null(mt.break_even_m)},
       {"note", "an image metric (PSNR against the simulator's truth), not a user study"}};
+  // The replay of the run's own transition against the pictures the station drew: how far the
+  // tuning's scores can be trusted.
+  const std::vector<double>& replayed = tuner.trace(own_candidate);
+  double diff_sum = 0.0, diff_max = 0.0;
+  for (std::size_t i = 0; i < rows.size() && i < replayed.size(); ++i) {
+    const double d = std::abs(replayed[i] - rows[i].whole.psnr_db);
+    diff_sum += d;
+    diff_max = std::max(diff_max, d);
+  }
+  const double diff_mean = rows.empty() ? 0.0 : diff_sum / static_cast<double>(rows.size());
+  write_tuning_csv(tuner.results(), o.out_dir + "/tuning.csv");
+  nlohmann::json best = nlohmann::json::object();
+  for (core::TransitionMode mode :
+       {core::TransitionMode::kAbrupt, core::TransitionMode::kGlobalBlend,
+        core::TransitionMode::kPerPixel}) {
+    const TuningResult b = tuner.best(mode);
+    best[transition_mode_name(mode)] = {{"m_t", b.candidate.m_t},
+                                        {"eps", b.candidate.eps},
+                                        {"psnr_mean_db", b.psnr_mean_db},
+                                        {"psnr_p5_db", b.p5_db},
+                                        {"video_share", b.video_share}};
+  }
+  const TuningResult own_result = tuner.results()[own_candidate];
+  j["tuning"] = {
+      {"candidates", grid.size()},
+      {"best", best},
+      {"this_run",
+       {{"m_t", own.m_t}, {"eps", own.eps}, {"psnr_mean_db_replayed", own_result.psnr_mean_db}}},
+      {"replay_check",
+       {{"mean_abs_db", diff_mean},
+        {"max_abs_db", diff_max},
+        {"note", "the run's own transition replayed, against the PSNR of the pictures it drew"}}},
+      {"grid", "tuning.csv"}};
   j["by_variant"] = {{"video", scores_of(by_variant[0])},
                      {"hybrid", scores_of(by_variant[1])},
                      {"synthetic", scores_of(by_variant[2])}};
   // Machine figures, beside the scores: they do not move the scene's clock.
-  j["speed"] = {
-      {"wall_s", wall_s},
-      {"scene_s", scene_s},
-      {"x_real_time", wall_s > 0.0 ? scene_s / wall_s : 0.0},
-      {"render_ms_per_frame", frames ? 1e3 * render_s / static_cast<double>(frames) : 0.0}};
+  j["speed"] = {{"wall_s", wall_s},
+                {"scene_s", scene_s},
+                {"x_real_time", wall_s > 0.0 ? scene_s / wall_s : 0.0},
+                {"render_ms_per_frame", per_frame_ms(render_s)},
+                {"ms_per_frame",
+                 {{"cameras_beside_scoring", per_frame_ms(cameras_s)},
+                  {"head_tracker", per_frame_ms(devices_s)},
+                  {"camera_pipelines", per_frame_ms(pipelines_s)},
+                  {"model_updater", per_frame_ms(model_s)},
+                  {"station_tick", per_frame_ms(render_s)},
+                  {"scoring", per_frame_ms(scoring_s)}}}};
   write_text_atomically(j.dump(1) + "\n", o.out_dir + "/score.json");
   std::vector<ScorePoint> eye0;
   for (const ScoreRow& r : rows)
@@ -407,12 +403,29 @@ int score(const ScoreOptions& so) {
       mt.spearman, mt.samples,
       std::isfinite(mt.break_even_m) ? fmt("%.1f px", mt.break_even_m).c_str()
                                      : "none in the range");
+  std::printf(
+      "  best transition by mean PSNR over %zu candidates (replay within %.3f dB mean, "
+      "%.3f dB max of the pictures drawn):\n",
+      grid.size(), diff_mean, diff_max);
+  for (const auto& [mode, b] : best.items())
+    std::printf(
+        "    %-12s m_t %5.1f px, eps %4.1f px: %.2f dB mean (this run's %.1f / %.1f: "
+        "%.2f dB)\n",
+        mode.c_str(), b["m_t"].get<double>(), b["eps"].get<double>(),
+        b["psnr_mean_db"].get<double>(), own.m_t, own.eps, own_result.psnr_mean_db);
   std::printf("  %" PRIu64
               " frames (%.1f s of scene) in %.1f s: %.2f x real time; the station's "
               "tick %.2f ms per frame on this machine\n",
               frames, scene_s, wall_s, wall_s > 0.0 ? scene_s / wall_s : 0.0,
-              frames ? 1e3 * render_s / static_cast<double>(frames) : 0.0);
-  for (const char* f : {"score.csv", "score.json", "score_trace.png", "m_scatter.png"})
+              per_frame_ms(render_s));
+  std::printf(
+      "  ms per frame     head tracker %.2f, camera pipelines %.2f, model updater %.2f, "
+      "station tick %.2f, scoring (truth, pure views, scores; eyes side by side) %.2f; "
+      "the simulated cameras %.2f beside the scoring\n",
+      per_frame_ms(devices_s), per_frame_ms(pipelines_s), per_frame_ms(model_s),
+      per_frame_ms(render_s), per_frame_ms(scoring_s), per_frame_ms(cameras_s));
+  for (const char* f :
+       {"score.csv", "score.json", "score_trace.png", "m_scatter.png", "tuning.csv"})
     std::printf("  wrote %s/%s\n", o.out_dir.c_str(), f);
   if (so.save_frames > 0)
     std::printf("  wrote %s/NNNNNN_eyeE_{shown,truth}.png\n", frames_dir.c_str());

@@ -242,6 +242,7 @@ void StationFrame::tick(const render::FrameTiming& timing) {
     row.frame = timing.frame;
     row.m = m;
     row.w_video = ts.w_video;
+    row.w_cap = w_cap;
     row.camera = shown_;
     row.variant = ts.variant;
     row.guidance = cue.active;

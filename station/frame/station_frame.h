@@ -55,6 +55,9 @@ struct FrameRow {
   uint64_t frame = 0;
   double m = 0.0;  ///< chosen camera's worse-eye m (+inf: none usable)
   double w_video = 0.0;
+  /// The cap the video's age put on w_video this frame (core::video_weight_cap; 1: none), kept
+  /// so `hybrid-station score` can replay the transition with other m_t and eps.
+  double w_cap = 1.0;
   int camera = -1;
   core::Variant variant = core::Variant::kSynthetic;
   bool guidance = false;

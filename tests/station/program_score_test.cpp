@@ -55,7 +55,7 @@ class ScoreRun : public ::testing::Test {
     std::error_code ec;
     fs::remove_all(suite_dir(), ec);
   }
-  static fs::path one() { return run_once("one", ""); }
+  static fs::path one() { return run_once("one", "--threads 1"); }
   static fs::path two() {
     return run_once("two", "--threads 2 --save-frames " + std::to_string(kSaveEvery));
   }
@@ -150,6 +150,28 @@ TEST_F(ScoreRun, TheSummaryHoldsTheSettingsTheScoresAndTheSpeed) {
   if (!j["m_against_truth"]["spearman_m_vs_video_error"].is_null()) {
     EXPECT_LE(std::abs(j["m_against_truth"]["spearman_m_vs_video_error"].get<double>()), 1.0);
   }
+}
+
+// The run's own transition replayed through the error models scores what the station drew: the
+// frames fade the video in (hybrid, per-pixel), so the per-pixel replay is checked too.
+TEST_F(ScoreRun, TheReplayedTransitionMatchesTheShownPictures) {
+  const nlohmann::json j = nlohmann::json::parse(slurp(one() / "score.json"));
+  EXPECT_GT(j["by_variant"]["hybrid"]["eye_frames"].get<int>(), 4);
+  const nlohmann::json& check = j["tuning"]["replay_check"];
+  EXPECT_LT(check["mean_abs_db"].get<double>(), 0.01);
+  EXPECT_LT(check["max_abs_db"].get<double>(), 0.05);
+  // Every candidate in tuning.csv, the best of each mode no worse than the run's own.
+  const auto rows = rows_of(slurp(one() / "tuning.csv"));
+  ASSERT_EQ(rows.size(), 1u + j["tuning"]["candidates"].get<std::size_t>());
+  EXPECT_EQ(rows[0], split_csv_line("mode,m_t,eps,psnr_mean_db,psnr_p5_db,video_share"));
+  const double own = j["tuning"]["this_run"]["psnr_mean_db_replayed"].get<double>();
+  for (const char* mode : {"abrupt", "global_blend", "per_pixel"}) {
+    double best = -1.0;
+    for (std::size_t i = 1; i < rows.size(); ++i)
+      if (rows[i][0] == mode) best = std::max(best, std::stod(rows[i][3]));
+    EXPECT_NEAR(j["tuning"]["best"][mode]["psnr_mean_db"].get<double>(), best, 1e-4) << mode;
+  }
+  EXPECT_GE(j["tuning"]["best"]["per_pixel"]["psnr_mean_db"].get<double>(), own - 1e-9);
 }
 
 TEST_F(ScoreRun, ThePlotsAreWrittenAtTheirSizes) {
