@@ -1,15 +1,19 @@
 // hybrid-station score against cases whose answer is known without the station: a plane at d seen
 // from the camera centre (E = 0: the video is exact up to resampling), an a-priori model that is
-// the scene (the synthetic view is exact wherever the head holds still).
+// the scene (the synthetic view is exact wherever the head holds still), and the same scene
+// scored twice, once with every core busy (the scene's clock, not the machine's).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "support/score_program.h"
@@ -209,6 +213,102 @@ TEST_F(ScoreClosedForm, AModelEqualToTheSceneScoresAtLeast40DbFromEveryHeldPose)
   RecordProperty("min_psnr_moving_db", std::to_string(lowest_moving));
   std::printf("lowest PSNR of the synthetic view: %.2f dB held still, %.2f dB moving\n",
               lowest_held, lowest_moving);
+}
+
+// Keeps every hardware thread busy until destroyed (spinning, not sleeping: a sleeping load
+// would leave the cores free).
+class CpuLoad {
+ public:
+  CpuLoad() {
+    const unsigned n = std::max(2u, std::thread::hardware_concurrency());
+    for (unsigned i = 0; i < n; ++i)
+      threads_.emplace_back([this] {
+        volatile uint64_t x = 0;
+        while (!stop_.load(std::memory_order_relaxed)) x = x * 6364136223846793005ull + 1;
+      });
+  }
+  ~CpuLoad() {
+    stop_ = true;
+    for (std::thread& t : threads_) t.join();
+  }
+  CpuLoad(const CpuLoad&) = delete;
+  CpuLoad& operator=(const CpuLoad&) = delete;
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> threads_;
+};
+
+// Everything in the station that could depend on timing, at once: frames delayed with jitter
+// (camera and network) and dropped, sensor noise, a lens, tracker noise and drift, a moving
+// object, the model re-textured every 0.2 s with a 0.1 s delay from a stereo pair it also
+// reconstructs, both eyes on their own threads and two compositor threads each.
+TEST_F(ScoreClosedForm, TheSameSceneScoresByteIdenticallyWithEveryCoreBusy) {
+  const fs::path scene = write_scene(
+      "busy.yaml",
+      "duration_s: 0.6\n"
+      "workspace: {min: [-1.0, -0.6, 0.8], max: [1.0, 0.4, 2.2]}\n"
+      "geometry:\n"
+      "  - {name: table, shape: quad, center: [0, 0.4, 1.4], size: [1.6, 1.0], ypr_deg: [0, 90, "
+      "0],\n"
+      "     texture: {colors: [[170, 130, 90], [120, 85, 55]], cell_m: 0.1}}\n"
+      "  - {name: wall, shape: quad, center: [0, -0.25, 2.2], size: [2.4, 1.3],\n"
+      "     texture: {type: image, file: sinusoids.png}}\n"
+      "objects:\n"
+      "  - {name: gripper, shape: box, size: [0.06, 0.10, 0.06],\n"
+      "     keyframes: [{t: 0, position: [-0.3, 0.12, 1.3]},\n"
+      "                 {t: 0.6, position: [0.1, 0.2, 1.4], yaw_deg: 40}]}\n"
+      "cameras:\n"
+      "  - {name: cam0, d_m: 1.5, intrinsics: {fx: 420, fy: 420, width: 640, height: 480},\n"
+      "     distortion: {k1: -0.12, k2: 0.03},\n"
+      "     pose: {position: [0, -0.3, 0], ypr_deg: [0, -26.57, 0]}}\n"
+      "  - {name: cam0r, d_m: 1.5, intrinsics: {fx: 420, fy: 420, width: 640, height: 480},\n"
+      "     distortion: {k1: -0.12, k2: 0.03},\n"
+      "     pose: {position: [0.12, -0.3, 0], ypr_deg: [0, -26.57, 0]}}\n"
+      "stereo: [{left: cam0, right: cam0r, min_disparity_px: 8, num_disparities_px: 64}]\n"
+      "head:\n"
+      "  keyframes:\n"
+      "    - {t: 0, position: [0, -0.3, 0], ypr_deg: [0, -26.57, 0]}\n"
+      "    - {t: 0.6, position: [-0.4, -0.4, 0.1], ypr_deg: [20, -30, 0]}\n"
+      "effects:\n"
+      "  - lens_distortion\n"
+      "  - camera_delay: {mean_ms: 30, jitter_ms: 5}\n"
+      "  - network_delay: {mean_ms: 10, jitter_ms: 3}\n"
+      "  - dropped_frames: {probability: 0.1}\n"
+      "  - sensor_noise: {sigma_dn: 2}\n"
+      "  - tracker_noise\n"
+      "  - tracker_drift\n"
+      "  - model_staleness: {period_s: 0.2, delay_s: 0.1}\n"
+      "station: {m_t: 40, eps: 10, eye_width: 240, eye_height: 200}\n");
+  const std::string args = "--threads 2 --save-frames 9";
+  const auto quiet = score(scene, args, "quiet");
+  std::vector<ScoreCsvRow> loaded;
+  {
+    const CpuLoad load;
+    loaded = score(scene, args, "loaded");
+  }
+  ASSERT_EQ(quiet.size(), 2u * 54u);  // 0.6 s at 90 Hz, both eyes
+  EXPECT_EQ(slurp(dir_ / "quiet" / "score.csv"), slurp(dir_ / "loaded" / "score.csv"));
+  // The saved pictures too, byte for byte: the same pixels, not only the same scores.
+  int pictures = 0;
+  for (const auto& f : fs::directory_iterator(dir_ / "quiet" / "frames")) {
+    const fs::path other = dir_ / "loaded" / "frames" / f.path().filename();
+    ASSERT_TRUE(fs::exists(other)) << other;
+    EXPECT_TRUE(slurp(f.path()) == slurp(other)) << f.path().filename();
+    ++pictures;
+  }
+  EXPECT_EQ(pictures, 2 * 2 * 6);  // frames 0, 9, ..., 45; both eyes; shown and truth
+  // Video was on screen part of the time: the camera pipeline's timing was in play too.
+  int with_video = 0;
+  for (const ScoreCsvRow& r : quiet) with_video += r.at("variant") != "synthetic";
+  EXPECT_GT(with_video, 0);
+  // How much the load slowed the run (the machine's figure in score.json, not in score.csv).
+  const auto wall_s = [&](const char* run) {
+    const auto j = nlohmann::json::parse(slurp(dir_ / run / "score.json"), nullptr, false);
+    return j.is_discarded() ? NAN : j["speed"]["wall_s"].get<double>();
+  };
+  std::printf("wall time %.2f s quiet, %.2f s with every core busy\n", wall_s("quiet"),
+              wall_s("loaded"));
 }
 
 }  // namespace
