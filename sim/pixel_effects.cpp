@@ -14,8 +14,10 @@ namespace hd::sim {
 
 namespace {
 
+// std::lround of the clamped value, written out: non-negative, so round half away from zero is
+// truncation of v + 0.5. The libm call per channel value was 4% of a `score` run.
 uint8_t clip_dn(double v) {
-  return static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+  return static_cast<uint8_t>(static_cast<int>(std::clamp(v, 0.0, 255.0) + 0.5));
 }
 
 }  // namespace

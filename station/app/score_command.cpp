@@ -24,7 +24,8 @@ const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
       "Writes DIR/score.csv (one row per frame and eye), DIR/score.json (means and "
       "percentiles, overall and by variant, the settings, m against the truth, the best m_t "
       "and eps per transition mode, and the run's speed), DIR/tuning.csv (every m_t and eps "
-      "replayed over the run) and the plots score_trace.png and m_scatter.png.\n"
+      "replayed over the run), the plots score_trace.png and m_scatter.png, and score_sheet.png "
+      "(shown | truth | error of six frames).\n"
       "Exit codes: 0 done, 1 runtime failure, 2 bad scene file (file:line:col: field).");
   cmd->add_option("--scene", o.scene_path,
                   "Scene file (default: scenes/default.yaml, from the current directory or the "
@@ -53,6 +54,9 @@ const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--save-frames", opts->save_frames,
                   "Every Nth frame: DIR/frames/NNNNNN_eyeE_shown.png and _truth.png");
+  cmd->add_flag("--error-maps", opts->error_maps,
+                "Per-pixel error maps DIR/frames/NNNNNN_eyeE_error.png of the same frames (every "
+                "90th without --save-frames): the largest channel error, 0..64 DN, INFERNO");
   cmd->callback([opts, &exit_code] { exit_code = run_score(*opts); });
 }};
 

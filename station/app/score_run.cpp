@@ -23,6 +23,7 @@
 #include "station/app/report_text.h"
 #include "station/app/scene_locator.h"
 #include "station/app/score_outputs.h"
+#include "station/app/score_pictures.h"
 #include "station/app/score_plots.h"
 #include "station/app/station_config.h"
 #include "station/app/station_parts.h"
@@ -70,7 +71,9 @@ int score(const ScoreOptions& so) {
   if (!fs::is_directory(o.out_dir, ec))
     throw std::runtime_error("--out " + o.out_dir + ": cannot create the directory");
   const std::string frames_dir = o.out_dir + "/frames";
-  if (so.save_frames > 0) fs::create_directories(frames_dir, ec);
+  // --error-maps alone keeps a map of every 90th frame (one a second at the default rate).
+  const uint64_t save_every = so.save_frames > 0 ? so.save_frames : (so.error_maps ? 90 : 0);
+  if (save_every > 0) fs::create_directories(frames_dir, ec);
 
   const uint64_t frames = o.frames ? o.frames
                                    : static_cast<uint64_t>(std::llround(
@@ -131,6 +134,14 @@ int score(const ScoreOptions& so) {
   TransitionTuner tuner(grid, own);
   std::vector<std::vector<double>> tuning_scores(static_cast<std::size_t>(eyes));
   const std::vector<std::string> names = p.camera_names();
+  // The contact sheet: eye 0 of six frames spread over the run.
+  std::vector<uint64_t> sheet_frames;
+  for (uint64_t i = 0; i < 6 && frames > 0; ++i) {
+    const uint64_t f = frames > 1 ? i * (frames - 1) / 5 : 0;
+    if (sheet_frames.empty() || sheet_frames.back() != f) sheet_frames.push_back(f);
+  }
+  std::size_t sheet_next = 0;
+  std::vector<SheetRow> sheet;
 
   std::vector<ScoreRow> rows;
   rows.reserve(static_cast<std::size_t>(frames) * static_cast<std::size_t>(eyes));
@@ -251,15 +262,32 @@ int score(const ScoreOptions& so) {
       r.psnr_pure_synthetic_db = model.psnr_db(core::TransitionMode::kGlobalBlend, 0.0);
       if (has_video) r.psnr_pure_video_db = model.psnr_db(core::TransitionMode::kGlobalBlend, 1.0);
       tuner.score_eye(model, tuning_scores[ei]);
-      if (so.save_frames > 0 && k % so.save_frames == 0) {
-        char number_text[32];
-        std::snprintf(number_text, sizeof number_text, "%06" PRIu64, k);
-        const std::string stem = frames_dir + "/" + number_text + "_eye" + std::to_string(e);
-        cv::Mat bgr;
-        rgba_to_bgr(shown, bgr);
-        write_png_atomically(bgr, stem + "_shown.png");
-        rgba_to_bgr(truth[ei], bgr);
-        write_png_atomically(bgr, stem + "_truth.png");
+      const bool save = save_every > 0 && k % save_every == 0;
+      const bool on_sheet =
+          e == 0 && sheet_next < sheet_frames.size() && sheet_frames[sheet_next] == k;
+      if (save || on_sheet) {
+        cv::Mat shown_bgr, truth_bgr;
+        rgba_to_bgr(shown, shown_bgr);
+        rgba_to_bgr(truth[ei], truth_bgr);
+        const cv::Mat error = error_map(shown, truth[ei]);
+        if (save) {
+          char number_text[32];
+          std::snprintf(number_text, sizeof number_text, "%06" PRIu64, k);
+          const std::string stem = frames_dir + "/" + number_text + "_eye" + std::to_string(e);
+          if (so.save_frames > 0) {
+            write_png_atomically(shown_bgr, stem + "_shown.png");
+            write_png_atomically(truth_bgr, stem + "_truth.png");
+          }
+          if (so.error_maps) {
+            cv::Mat with_scale;
+            cv::vconcat(error, error_legend(error.cols), with_scale);
+            write_png_atomically(with_scale, stem + "_error.png");
+          }
+        }
+        if (on_sheet)
+          sheet.push_back({fmt("frame %.0f  t %.2f s  ", static_cast<double>(k), t_display_s) +
+                               variant_name(r.variant) + fmt("  %.1f dB", r.whole.psnr_db),
+                           shown_bgr, truth_bgr, error});
       }
     };
     if (eyes == 2) {
@@ -278,6 +306,7 @@ int score(const ScoreOptions& so) {
       score_eye(0);
     }
     for (int e = 0; e < eyes; ++e) rows.push_back(std::move(eye_rows[e]));
+    if (sheet_next < sheet_frames.size() && sheet_frames[sheet_next] == k) ++sheet_next;
     tuner.end_frame(tuning_scores, error_models[0].has_video());
     if (next_cameras.joinable()) next_cameras.join();
     if (cameras_failed) std::rethrow_exception(cameras_failed);
@@ -427,8 +456,16 @@ int score(const ScoreOptions& so) {
   for (const char* f :
        {"score.csv", "score.json", "score_trace.png", "m_scatter.png", "tuning.csv"})
     std::printf("  wrote %s/%s\n", o.out_dir.c_str(), f);
+  if (!sheet.empty()) {
+    write_png_atomically(score_contact_sheet(sheet), o.out_dir + "/score_sheet.png");
+    std::printf("  wrote %s/score_sheet.png (shown | truth | error of %zu frames, eye 0)\n",
+                o.out_dir.c_str(), sheet.size());
+  }
   if (so.save_frames > 0)
     std::printf("  wrote %s/NNNNNN_eyeE_{shown,truth}.png\n", frames_dir.c_str());
+  if (so.error_maps)
+    std::printf("  wrote %s/NNNNNN_eyeE_error.png (largest channel error, 0..%d DN)\n",
+                frames_dir.c_str(), kErrorMapFullScaleDn);
   return 0;
 }
 

@@ -27,6 +27,8 @@ namespace hd::station {
 struct ScoreOptions {
   RunOptions station;        ///< scene, out, frames / seconds, rate, mono, hmd, m_t, eps, ...
   uint64_t save_frames = 0;  ///< every Nth frame's shown and truth PNGs (0: none)
+  /// Per-pixel error maps of the same frames (of every 90th without save_frames).
+  bool error_maps = false;
 };
 
 /// Runs and writes DIR/score.csv and DIR/score.json; returns the program's exit code (0 done,

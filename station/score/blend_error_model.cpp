@@ -15,8 +15,8 @@ namespace {
 // it in x' (kappa = 2 (1 - w) for w >= 1/2, small when the video is nearly opaque), so the cells
 // are finer there: cell i holds r = 1 - x' in [(i / kBins)^2, ((i + 1) / kBins)^2), from
 // 1/4096 of the half frame at the edge to 1/32 in the middle.
-int bin_of(float p, double two_over_size) {
-  const double r = 1.0 - std::min(std::abs(1.0 - p * two_over_size), 1.0);
+int bin_of(float p, float two_over_size) {
+  const float r = 1.0f - std::min(std::abs(1.0f - p * two_over_size), 1.0f);
   return std::min(static_cast<int>(std::sqrt(r) * BlendErrorModel::kBins),
                   BlendErrorModel::kBins - 1);
 }
@@ -46,8 +46,8 @@ void BlendErrorModel::build(const render::ImageRgba8& truth, const render::Image
   const std::size_t cells = static_cast<std::size_t>(kBins) * kBins;
   bin_bd_.assign(cells, 0.0);
   bin_dd_.assign(cells, 0.0);
-  const double two_over_w = has_video_ ? 2.0 / frame_width : 0.0;
-  const double two_over_h = has_video_ ? 2.0 / frame_height : 0.0;
+  const float two_over_w = has_video_ ? 2.0f / static_cast<float>(frame_width) : 0.0f;
+  const float two_over_h = has_video_ ? 2.0f / static_cast<float>(frame_height) : 0.0f;
   int64_t bb = 0, bd = 0, dd = 0;  // exact: at most 3 * 510^2 per pixel
   for (int y = 0; y < truth.height; ++y) {
     const uint8_t* t = truth.row(y);
