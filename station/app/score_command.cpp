@@ -26,7 +26,8 @@ const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
       "and eps per transition mode, and the run's speed), DIR/tuning.csv (every m_t and eps "
       "replayed over the run), the plots score_trace.png and m_scatter.png, and score_sheet.png "
       "(shown | truth | error of six frames).\n"
-      "Exit codes: 0 done, 1 runtime failure, 2 bad scene file (file:line:col: field).");
+      "Exit codes: 0 done, 1 runtime failure, 2 bad scene file (file:line:col: field), 3 the "
+      "station cannot start.");
   cmd->add_option("--scene", o.scene_path,
                   "Scene file (default: scenes/default.yaml, from the current directory or the "
                   "source tree)");
@@ -54,6 +55,10 @@ const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--save-frames", opts->save_frames,
                   "Every Nth frame: DIR/frames/NNNNNN_eyeE_shown.png and _truth.png");
+  cmd->add_flag("--sweep", opts->sweep,
+                "Accuracy against time: every scene of scenes/ (or --scene) under camera delays "
+                "20+-10 and 50+-20 ms and model periods 1 and 4 s, with every method and "
+                "predictor, at 30 Hz unless --rate; writes DIR/sweep.csv and DIR/sweep.md");
   cmd->add_flag("--error-maps", opts->error_maps,
                 "Per-pixel error maps DIR/frames/NNNNNN_eyeE_error.png of the same frames (every "
                 "90th without --save-frames): the largest channel error, 0..64 DN, INFERNO");

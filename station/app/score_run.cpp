@@ -25,6 +25,7 @@
 #include "station/app/score_outputs.h"
 #include "station/app/score_pictures.h"
 #include "station/app/score_plots.h"
+#include "station/app/score_sweep.h"
 #include "station/app/station_config.h"
 #include "station/app/station_parts.h"
 #include "station/app/stepped_model_updater.h"
@@ -44,23 +45,22 @@ render::ImageRgba8 crop(const render::ImageRgba8& im, const render::Viewport& vp
   return out;
 }
 
-int score(const ScoreOptions& so) {
+struct CannotStart : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace
+
+ScoreFigures score_scene(sim::Scene scene, const std::string& scene_path, const ScoreOptions& so) {
   namespace fs = std::filesystem;
   RunOptions o = so.station;
   o.headless = true;
-  const std::string scene_path =
-      scene_or_default(o.scene_path, "hybrid-station score", "no --scene");
-  sim::Scene scene = sim::load_scene(scene_path);
   const double duration_s = scene.duration_s;
   const std::unique_ptr<StationParts> parts =
       assemble_from_scene(std::move(scene), o, SceneDevices::kStepped);
   StationParts& p = *parts;
-  p.report.print(stdout);
-  if (p.report.fatal()) {
-    std::fprintf(stderr, "hybrid-station score: cannot start: %s\n",
-                 p.report.missing_summary().c_str());
-    return 3;
-  }
+  if (!so.quiet) p.report.print(stdout);
+  if (p.report.fatal()) throw CannotStart("cannot start: " + p.report.missing_summary());
   // The operator's cues (marking, guidance, HUD) are information, not errors: scored without.
   p.frame_config.marking.style = core::MarkingStyle::kNone;
   p.frame_config.draw_guidance = false;
@@ -81,11 +81,13 @@ int score(const ScoreOptions& so) {
   const int64_t epoch = p.stepped->epoch_ns;
   const int64_t period_ns = std::llround(1e9 / p.rate_hz);
   const int64_t scanout_ns = std::llround(p.scanout_ms * 1e6);
-  std::printf("  score            %" PRIu64 " frames at %g Hz on the scene's clock, %s\n", frames,
-              p.rate_hz, p.frame_config.rig.eye_count() == 2 ? "both eyes" : "one eye");
-  std::printf("  scored without   marking, guidance and HUD%s\n",
-              p.frame_config.lens ? "; before the lens pass" : "");
-  std::fflush(stdout);
+  if (!so.quiet) {
+    std::printf("  score            %" PRIu64 " frames at %g Hz on the scene's clock, %s\n", frames,
+                p.rate_hz, p.frame_config.rig.eye_count() == 2 ? "both eyes" : "one eye");
+    std::printf("  scored without   marking, guidance and HUD%s\n",
+                p.frame_config.lens ? "; before the lens pass" : "");
+    std::fflush(stdout);
+  }
 
   // OpenCV's quality module allocates its large float images anew for every score; kept by the
   // allocator instead of returned to the system each time, they cost no page faults (which
@@ -136,7 +138,7 @@ int score(const ScoreOptions& so) {
   const std::vector<std::string> names = p.camera_names();
   // The contact sheet: eye 0 of six frames spread over the run.
   std::vector<uint64_t> sheet_frames;
-  for (uint64_t i = 0; i < 6 && frames > 0; ++i) {
+  for (uint64_t i = 0; i < 6 && frames > 0 && !so.quiet; ++i) {
     const uint64_t f = frames > 1 ? i * (frames - 1) / 5 : 0;
     if (sheet_frames.empty() || sheet_frames.back() != f) sheet_frames.push_back(f);
   }
@@ -312,7 +314,7 @@ int score(const ScoreOptions& so) {
     if (cameras_failed) std::rethrow_exception(cameras_failed);
     scoring_s +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - scoring_start).count();
-    if (k + 1 >= next_progress || k + 1 == frames) {
+    if (!so.quiet && (k + 1 >= next_progress || k + 1 == frames)) {
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
       std::printf("  progress         frame %" PRIu64 " of %" PRIu64
@@ -411,6 +413,22 @@ int score(const ScoreOptions& so) {
                   {"station_tick", per_frame_ms(render_s)},
                   {"scoring", per_frame_ms(scoring_s)}}}};
   write_text_atomically(j.dump(1) + "\n", o.out_dir + "/score.json");
+  ScoreFigures figures;
+  const nlohmann::json& ov = j["overall"];
+  figures.eye_frames = rows.size();
+  if (ov["psnr_db"].contains("mean")) {
+    figures.psnr_mean_db = ov["psnr_db"]["mean"].get<double>();
+    figures.psnr_p5_db = ov["psnr_db"]["p5"].get<double>();
+    figures.ssim_mean = ov["ssim"]["mean"].get<double>();
+    figures.ssim_p5 = ov["ssim"]["p5"].get<double>();
+  }
+  figures.video_share = rows.empty()
+                            ? 0.0
+                            : static_cast<double>(by_variant[0].size() + by_variant[1].size()) /
+                                  static_cast<double>(rows.size());
+  figures.tick_ms = per_frame_ms(render_s);
+  figures.x_real_time = wall_s > 0.0 ? scene_s / wall_s : 0.0;
+  if (so.quiet) return figures;
   std::vector<ScorePoint> eye0;
   for (const ScoreRow& r : rows)
     if (r.eye == 0)
@@ -419,7 +437,6 @@ int score(const ScoreOptions& so) {
   write_png_atomically(draw_score_trace(eye0), o.out_dir + "/score_trace.png");
   write_png_atomically(draw_m_scatter(eye0, mt.break_even_m), o.out_dir + "/m_scatter.png");
 
-  const nlohmann::json& ov = j["overall"];
   std::printf("score (%s)\n", scene_path.c_str());
   if (ov["psnr_db"].contains("mean"))
     std::printf("  PSNR mean %.2f dB, p5 %.2f dB; SSIM mean %.4f, p5 %.4f; GMSD mean %.4f\n",
@@ -466,18 +483,24 @@ int score(const ScoreOptions& so) {
   if (so.error_maps)
     std::printf("  wrote %s/NNNNNN_eyeE_error.png (largest channel error, 0..%d DN)\n",
                 frames_dir.c_str(), kErrorMapFullScaleDn);
-  return 0;
+  return figures;
 }
-
-}  // namespace
 
 int run_score(const ScoreOptions& options) {
   try {
-    return score(options);
+    if (options.sweep) return run_score_sweep(options);
+    const std::string scene_path =
+        scene_or_default(options.station.scene_path, "hybrid-station score", "no --scene");
+    score_scene(sim::load_scene(scene_path), scene_path, options);
+    return 0;
   } catch (const config::ConfigError& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "hybrid-station score: %s\n", e.what());
     return 2;
+  } catch (const CannotStart& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "hybrid-station score: %s\n", e.what());
+    return 3;
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "hybrid-station score: %s\n", e.what());

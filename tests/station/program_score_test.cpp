@@ -187,3 +187,38 @@ TEST_F(ScoreRun, ThePlotsAreWrittenAtTheirSizes) {
 }
 
 }  // namespace
+
+namespace {
+
+// The sweep: one row per condition and method, each a run of its own, and the methods differ as
+// their definitions say (video only shows the most video, synthetic only none).
+TEST(ScoreSweep, EveryConditionAndMethodIsARowOfTheTable) {
+  const fs::path out = suite_dir() / "sweep";
+  fs::create_directories(suite_dir());
+  const int rc =
+      score("--sweep --scene scenes/plane.yaml --frames 6 --mono --out '" + out.string() + "'",
+            suite_dir() / "sweep.log");
+  ASSERT_EQ(rc, 0) << slurp(suite_dir() / "sweep.log");
+  const auto rows = rows_of(slurp(out / "sweep.csv"));
+  ASSERT_EQ(rows.size(), 1u + 4u * 7u);
+  EXPECT_EQ(rows[0], split_csv_line("scene,condition,method,psnr_mean_db,psnr_p5_db,ssim_mean,"
+                                    "ssim_p5,video_or_hybrid_share,tick_ms_per_frame,x_real_time"));
+  for (std::size_t i = 1; i < rows.size(); i += 7) {
+    EXPECT_EQ(rows[i][2], "video only");
+    EXPECT_EQ(rows[i + 1][2], "synthetic only");
+    EXPECT_GT(std::stod(rows[i][7]), 0.5) << rows[i][1];
+    EXPECT_EQ(std::stod(rows[i + 1][7]), 0.0) << rows[i][1];
+    for (std::size_t k = i; k < i + 7; ++k) {
+      EXPECT_EQ(rows[k][0], "plane");
+      EXPECT_GT(std::stod(rows[k][3]), 15.0) << rows[k][2];
+      EXPECT_TRUE(fs::exists(out / "plane" / ("c" + std::to_string((i - 1) / 7)) /
+                             ("m" + std::to_string(k - i)) / "score.csv"));
+    }
+  }
+  EXPECT_NE(slurp(out / "sweep.md").find("| plane | delay 50+-20 ms / model 4 s | per-pixel"),
+            std::string::npos);
+  std::error_code ec;
+  fs::remove_all(out, ec);
+}
+
+}  // namespace
