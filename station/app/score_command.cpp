@@ -55,6 +55,10 @@ const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--save-frames", opts->save_frames,
                   "Every Nth frame: DIR/frames/NNNNNN_eyeE_shown.png and _truth.png");
+  cmd->add_option("--age-bound-ms", opts->age_bound_ms,
+                  "Content older than this at its display time counts in old_fraction")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   cmd->add_flag("--sweep", opts->sweep,
                 "Accuracy against time: every scene of scenes/ (or --scene) under camera delays "
                 "20+-10 and 50+-20 ms and model periods 1 and 4 s, with every method and "

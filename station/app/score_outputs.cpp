@@ -20,7 +20,7 @@ std::string number(double v, const char* f = "%.4f") {
 void write_score_csv(const std::vector<ScoreRow>& rows, const std::string& path) {
   std::string s =
       "frame,t_s,eye,variant,camera,m,w_video,psnr_db,ssim,gmsd,psnr_video_db,psnr_blend_db,"
-      "psnr_synthetic_db,video_fraction,psnr_pure_video_db,psnr_pure_synthetic_db\n";
+      "psnr_synthetic_db,video_fraction,psnr_pure_video_db,psnr_pure_synthetic_db,old_fraction\n";
   for (const ScoreRow& r : rows)
     s += std::to_string(r.frame) + "," + fmt("%.6f", r.t_s) + "," + std::to_string(r.eye) + "," +
          variant_name(r.variant) + "," + r.camera + "," + number(r.m, "%.3f") + "," +
@@ -28,7 +28,8 @@ void write_score_csv(const std::vector<ScoreRow>& rows, const std::string& path)
          number(r.whole.ssim, "%.5f") + "," + number(r.whole.gmsd, "%.5f") + "," +
          number(r.psnr_video_db) + "," + number(r.psnr_blend_db) + "," +
          number(r.psnr_synthetic_db) + "," + fmt("%.4f", r.video_fraction) + "," +
-         number(r.psnr_pure_video_db) + "," + number(r.psnr_pure_synthetic_db) + "\n";
+         number(r.psnr_pure_video_db) + "," + number(r.psnr_pure_synthetic_db) + "," +
+         fmt("%.4f", r.old_fraction) + "\n";
   write_text_atomically(s, path);
 }
 
@@ -58,7 +59,7 @@ nlohmann::json distribution(std::vector<double> v) {
 }
 
 nlohmann::json scores_of(const std::vector<const ScoreRow*>& rows) {
-  std::vector<double> psnr, ssim, gmsd, pv, ps, vf;
+  std::vector<double> psnr, ssim, gmsd, pv, ps, vf, old;
   for (const ScoreRow* r : rows) {
     psnr.push_back(r->whole.psnr_db);
     ssim.push_back(r->whole.ssim);
@@ -66,11 +67,12 @@ nlohmann::json scores_of(const std::vector<const ScoreRow*>& rows) {
     pv.push_back(r->psnr_video_db);
     ps.push_back(r->psnr_synthetic_db);
     vf.push_back(r->video_fraction);
+    old.push_back(r->old_fraction);
   }
-  return {{"eye_frames", rows.size()},         {"psnr_db", distribution(psnr)},
-          {"ssim", distribution(ssim)},        {"gmsd", distribution(gmsd)},
-          {"psnr_video_db", distribution(pv)}, {"psnr_synthetic_db", distribution(ps)},
-          {"video_fraction", distribution(vf)}};
+  return {{"eye_frames", rows.size()},          {"psnr_db", distribution(psnr)},
+          {"ssim", distribution(ssim)},         {"gmsd", distribution(gmsd)},
+          {"psnr_video_db", distribution(pv)},  {"psnr_synthetic_db", distribution(ps)},
+          {"video_fraction", distribution(vf)}, {"old_fraction", distribution(old)}};
 }
 
 }  // namespace hd::station

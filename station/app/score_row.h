@@ -22,6 +22,10 @@ struct ScoreRow {
   /// only (weight 0); NaN when there were none.
   double psnr_video_db = NAN, psnr_blend_db = NAN, psnr_synthetic_db = NAN;
   double video_fraction = 0.0;  ///< the mean per-pixel video weight
+  /// The share of pixels whose content was older than the bound at the display time: those
+  /// showing mostly video (weight >= 1/2) when the video frame was, the others when the model's
+  /// textures were. The a-priori model's textures have no capture time and never count.
+  double old_fraction = 0.0;
   /// The same frame drawn as pure video (the camera on screen, or the one chosen, at weight 1)
   /// and as pure model; NaN for pure video when no camera was usable.
   double psnr_pure_video_db = NAN, psnr_pure_synthetic_db = NAN;

@@ -248,6 +248,9 @@ ScoreFigures score_scene(sim::Scene scene, const std::string& scene_path, const 
       r.psnr_blend_db = split.psnr_blend_db;
       r.psnr_synthetic_db = split.psnr_synthetic_db;
       r.video_fraction = split.video_fraction;
+      const double bound_ms = so.age_bound_ms;
+      r.old_fraction = (fr.video_age_ms > bound_ms ? split.video_dominant_fraction : 0.0) +
+                       (fr.model_age_ms > bound_ms ? 1.0 - split.video_dominant_fraction : 0.0);
       // The same frame (pose, model, camera and its frame) as pure video at global weight 1 and,
       // from the same draw, as pure model.
       render::CompositeRequest view = frame.last_request(e);
@@ -350,6 +353,7 @@ ScoreFigures score_scene(sim::Scene scene, const std::string& scene_path, const 
                    {"m_t", p.frame_config.transition.m_t},
                    {"eps", p.frame_config.transition.eps},
                    {"predictor", p.predictor},
+                   {"age_bound_ms", so.age_bound_ms},
                    {"scored_without", "marking, guidance, HUD"}};
   j["overall"] = scores_of(all);
   std::vector<MSample> samples;

@@ -34,6 +34,8 @@ struct ScoreOptions {
   uint64_t save_frames = 0;  ///< every Nth frame's shown and truth PNGs (0: none)
   /// Per-pixel error maps of the same frames (of every 90th without save_frames).
   bool error_maps = false;
+  /// Content older than this at its display time counts in old_fraction (score.csv).
+  double age_bound_ms = 100.0;
 };
 
 /// A run's headline figures (the rest is in its score.json).

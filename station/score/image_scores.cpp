@@ -92,7 +92,7 @@ WeightSplit split_by_weight(const render::ImageRgba8& shown, const render::Image
   check_sizes(shown, truth);
   int64_t sse[3] = {0, 0, 0};  // synthetic, blend, video
   int64_t n[3] = {0, 0, 0};
-  int64_t weight_sum = 0;
+  int64_t weight_sum = 0, video_dominant = 0;
   for (int y = 0; y < shown.height; ++y) {
     const uint8_t* p = shown.row(y);
     const uint8_t* q = truth.row(y);
@@ -107,6 +107,7 @@ WeightSplit split_by_weight(const render::ImageRgba8& shown, const render::Image
       sse[k] += e;
       n[k] += 3;
       weight_sum += w[x];
+      video_dominant += w[x] >= 128 ? 1 : 0;
     }
   }
   const auto psnr = [&](int k) {
@@ -117,6 +118,8 @@ WeightSplit split_by_weight(const render::ImageRgba8& shown, const render::Image
   out.psnr_synthetic_db = psnr(0);
   out.psnr_blend_db = psnr(1);
   out.psnr_video_db = psnr(2);
+  out.video_dominant_fraction =
+      static_cast<double>(video_dominant) / (shown.width * static_cast<double>(shown.height));
   out.video_fraction =
       static_cast<double>(weight_sum) / (255.0 * shown.width * static_cast<double>(shown.height));
   return out;

@@ -47,6 +47,8 @@ double masked_psnr_db(const render::ImageRgba8& shown, const render::ImageRgba8&
 struct WeightSplit {
   double psnr_video_db = 0.0, psnr_blend_db = 0.0, psnr_synthetic_db = 0.0;
   double video_fraction = 0.0;
+  /// The share of pixels that showed mostly video (weight >= 128 of 255).
+  double video_dominant_fraction = 0.0;
 };
 /// `weights`: the weight of pixel (x, y) at weights[y * stride + x].
 WeightSplit split_by_weight(const render::ImageRgba8& shown, const render::ImageRgba8& truth,

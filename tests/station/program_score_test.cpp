@@ -55,9 +55,11 @@ class ScoreRun : public ::testing::Test {
     std::error_code ec;
     fs::remove_all(suite_dir(), ec);
   }
-  static fs::path one() { return run_once("one", "--threads 1"); }
+  // A 1 ms age bound: every video frame (30 ms camera delay) is older than it.
+  static fs::path one() { return run_once("one", "--threads 1 --age-bound-ms 1"); }
   static fs::path two() {
-    return run_once("two", "--threads 2 --save-frames " + std::to_string(kSaveEvery));
+    return run_once("two",
+                    "--threads 2 --age-bound-ms 1 --save-frames " + std::to_string(kSaveEvery));
   }
 
  private:
@@ -82,7 +84,7 @@ TEST_F(ScoreRun, TheSameSceneGivesTheSameScoresWhateverTheThreadCount) {
   ASSERT_EQ(rows.size(), 1u + 2u * kFrames);  // header, then both eyes of every frame
   EXPECT_EQ(rows[0], split_csv_line("frame,t_s,eye,variant,camera,m,w_video,psnr_db,ssim,gmsd,"
                                     "psnr_video_db,psnr_blend_db,psnr_synthetic_db,video_fraction,"
-                                    "psnr_pure_video_db,psnr_pure_synthetic_db"));
+                                    "psnr_pure_video_db,psnr_pure_synthetic_db,old_fraction"));
   for (std::size_t i = 1; i < rows.size(); ++i) {
     ASSERT_EQ(rows[i].size(), rows[0].size()) << "row " << i;
     EXPECT_EQ(std::stoi(rows[i][0]), static_cast<int>((i - 1) / 2));
@@ -92,6 +94,13 @@ TEST_F(ScoreRun, TheSameSceneGivesTheSameScoresWhateverTheThreadCount) {
     EXPECT_LE(psnr, 100.0);
     EXPECT_GT(ssim, 0.5);
     EXPECT_LE(ssim, 1.0);
+    // Pixels showing mostly video show a frame older than 1 ms; the share is a share.
+    const double old = std::stod(rows[i][16]);
+    EXPECT_GE(old, 0.0);
+    EXPECT_LE(old, 1.0);
+    if (rows[i][3] == "video") {
+      EXPECT_GT(old, 0.3) << "row " << i;
+    }
   }
 }
 
