@@ -36,12 +36,17 @@ sim::Scene with_condition(sim::Scene scene, const SweepCondition& c) {
 // station configs beside them do not).
 std::vector<std::string> sweep_scenes(const std::string& given) {
   if (!given.empty()) return {given};
-  const fs::path dir =
-      fs::path(scene_or_default("", "hybrid-station score --sweep", "")).parent_path();
+  const std::string default_scene = scene_or_default("", "hybrid-station score --sweep", "");
+  const fs::path dir = fs::path(default_scene).parent_path();
   std::vector<std::string> scenes;
   for (const fs::directory_entry& e : fs::directory_iterator(dir))
     if (e.path().extension() == ".yaml") scenes.push_back(e.path().string());
-  std::sort(scenes.begin(), scenes.end());
+  // The default scene first, the others by name.
+  std::sort(scenes.begin(), scenes.end(), [&](const std::string& a, const std::string& b) {
+    const bool da = fs::path(a) == fs::path(default_scene),
+               db = fs::path(b) == fs::path(default_scene);
+    return da != db ? da : a < b;
+  });
   std::vector<std::string> readable;
   for (const std::string& s : scenes) {
     try {
