@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -289,10 +290,18 @@ ScoreFigures score_scene(sim::Scene scene, const std::string& scene_path, const 
             write_png_atomically(with_scale, stem + "_error.png");
           }
         }
-        if (on_sheet)
+        if (on_sheet) {
+          // Half size on the sheet (an overview: 18 photographic tiles at full size were a
+          // 4.5 MB PNG); --save-frames and --error-maps keep the full pictures.
+          const auto half = [](const cv::Mat& m) {
+            cv::Mat out;
+            cv::resize(m, out, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+            return out;
+          };
           sheet.push_back({fmt("frame %.0f  t %.2f s  ", static_cast<double>(k), t_display_s) +
                                variant_name(r.variant) + fmt("  %.1f dB", r.whole.psnr_db),
-                           shown_bgr, truth_bgr, error});
+                           half(shown_bgr), half(truth_bgr), half(error)});
+        }
       }
     };
     if (eyes == 2) {
