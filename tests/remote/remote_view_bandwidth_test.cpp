@@ -93,17 +93,25 @@ TEST(RemoteViewBandwidth, ACameraNotNeededDropsToTheLowRateAndComesBackWithAKeyF
   const Rates low = measure(cams, newest, 3.0);
   std::printf(
       "camera 1 needed: %.0f B/s, %.1f frames/s; not needed: %.0f B/s, %.1f frames/s (ratio "
-      "%.3f, divider %d); camera 0 meanwhile %.0f -> %.0f B/s\n",
+      "%.3f, divider %d); camera 0 meanwhile %.0f -> %.0f B/s, %.1f -> %.1f frames/s\n",
       full.bytes_per_s[1], full.frames_per_s[1], low.bytes_per_s[1], low.frames_per_s[1],
       low.bytes_per_s[1] / full.bytes_per_s[1], default_divider, full.bytes_per_s[0],
-      low.bytes_per_s[0]);
+      low.bytes_per_s[0], full.frames_per_s[0], low.frames_per_s[0]);
   // 1/divider of the frames, and of the bytes: x264's rate control gives each frame the
   // bitrate over the caps' frame rate, whatever the spacing. Within a factor 2 either way (key
-  // frames, the load's dropped frames).
-  const double ratio = low.bytes_per_s[1] / full.bytes_per_s[1];
+  // frames, the load's dropped frames). Each rate is taken relative to camera 0's in the same
+  // window: with the CPUs saturated the sender renders and encodes both cameras more slowly,
+  // and faster once camera 1 needs less, so camera 1's rate alone compared across the windows
+  // measured the load (a ratio of 0.45 against 0.33 with the sender at 8 of its 30 frames/s).
+  const auto relative = [](const Rates& r, bool bytes) {
+    return bytes ? r.bytes_per_s[1] / r.bytes_per_s[0] : r.frames_per_s[1] / r.frames_per_s[0];
+  };
+  const double ratio = relative(low, true) / relative(full, true);
+  std::printf("camera 1's bytes per second relative to camera 0's: not needed / needed = %.3f\n",
+              ratio);
   EXPECT_LT(ratio, 2.0 / default_divider);
   EXPECT_GT(ratio, 0.5 / default_divider);  // still sent, at the low rate
-  EXPECT_LT(low.frames_per_s[1], 2.0 / default_divider * full.frames_per_s[1]);
+  EXPECT_LT(relative(low, false), 2.0 / default_divider * relative(full, false));
   EXPECT_GT(low.bytes_per_s[0], 0.5 * full.bytes_per_s[0]);  // the other camera is untouched
 
   // The first key frame after the request, whichever it is: the forced one, or a periodic one
@@ -132,7 +140,7 @@ TEST(RemoteViewBandwidth, ACameraNotNeededDropsToTheLowRateAndComesBackWithAKeyF
   // 60 only one time in five.
   EXPECT_LT(frames_between, uint64_t(kKeyIntervalFrames / 5)) << "the forced key frame";
   const Rates back = measure(cams, newest, 1.0);
-  EXPECT_GT(back.frames_per_s[1], 2.0 * low.frames_per_s[1]) << "full rate again";
+  EXPECT_GT(relative(back, false), 2.0 * relative(low, false)) << "full rate again";
   for (int i = 0; i < 2; ++i) EXPECT_GE(cams[i]->feedback().view_feedback_sent, 1u);
 }
 

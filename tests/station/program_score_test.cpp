@@ -1,6 +1,6 @@
 // hybrid-station score: the same scene gives the same score.csv whatever the thread count (the
 // scene's clock, not the machine's), and its PSNR agrees with one recomputed from the saved
-// pictures by a plain formula.
+// pictures by a plain formula and by OpenCV's cv::PSNR.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
@@ -127,6 +128,8 @@ TEST_F(ScoreRun, PsnrRecomputedFromTheSavedPicturesAgrees) {
       const double psnr = mse > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 100.0;
       const auto& row = rows[static_cast<std::size_t>(1 + 2 * frame + eye)];
       EXPECT_NEAR(std::stod(row[7]), psnr, 0.01) << stem;
+      // And another tool: OpenCV's cv::PSNR over the same two files (BGR, every value alike).
+      EXPECT_NEAR(std::stod(row[7]), cv::PSNR(shown, truth), 0.01) << stem;
       ++compared;
     }
   EXPECT_EQ(compared, 6);
