@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <condition_variable>
+#include <cstdlib>
 #include <memory>
 #include <mutex>
 #include <opencv2/calib3d.hpp>
@@ -92,8 +93,32 @@ struct Job {
   std::mutex m;
   std::condition_variable cv;
   bool done = false;
+  bool abandoned = false;  ///< past its deadline: counted in Abandoned until it ends
   Detection result;
 };
+
+// The workers abandoned at their deadline that are still running. The process waits for them
+// at exit: one still inside OpenCV when OpenCV's statics were destroyed aborted the program
+// ("Can't fetch data from terminated TLS container", exit 134 instead of 1, seen with the CPUs
+// saturated). The wait is registered with atexit when the first worker is abandoned, after
+// OpenCV's statics exist, so it runs before they are destroyed. OpenCV's detection always ends;
+// it is only slow. Never destroyed (a worker may still use it during exit).
+struct Abandoned {
+  std::mutex m;
+  std::condition_variable cv;
+  int running = 0;
+};
+
+Abandoned& abandoned() {
+  static Abandoned* a = new Abandoned;
+  return *a;
+}
+
+void wait_for_abandoned_workers() {
+  Abandoned& a = abandoned();
+  std::unique_lock lock(a.m);
+  a.cv.wait(lock, [&] { return a.running == 0; });
+}
 
 }  // namespace
 
@@ -131,6 +156,12 @@ Detection detect_corners(const cv::Mat& gray, const Board& board, const Detector
     job->result = std::move(d);
     job->done = true;
     job->cv.notify_all();
+    if (job->abandoned) {
+      Abandoned& a = abandoned();
+      std::lock_guard count(a.m);
+      --a.running;
+      a.cv.notify_all();
+    }
   });
   std::unique_lock lock(job->m);
   if (job->cv.wait_for(lock, opt.timeout, [&] { return job->done; })) {
@@ -138,6 +169,15 @@ Detection detect_corners(const cv::Mat& gray, const Board& board, const Detector
     worker.join();
     return std::move(job->result);
   }
+  // Still running, under job->m: it counts itself out when it ends.
+  job->abandoned = true;
+  {
+    Abandoned& a = abandoned();
+    std::lock_guard count(a.m);
+    ++a.running;
+  }
+  static std::once_flag registered;
+  std::call_once(registered, [] { std::atexit(wait_for_abandoned_workers); });
   lock.unlock();
   worker.detach();  // OpenCV offers no cancellation; the worker ends on its own.
   Detection d;

@@ -48,7 +48,8 @@ int larger_board_corners(const cv::Mat& gray, const Board& board);
 
 /// Runs detection in a worker thread; if the deadline passes, the worker is abandoned (it owns a
 /// copy of the image and finishes on its own) and kTimedOut is returned, so a pathological frame
-/// cannot hang the tool. `gray` must be 8-bit single channel.
+/// cannot hang the tool while it runs; at exit the process waits for abandoned workers, which
+/// must not be inside OpenCV when its statics go. `gray` must be 8-bit single channel.
 Detection detect_corners(const cv::Mat& gray, const Board& board, const DetectorOptions& opt);
 
 }  // namespace hd::calib
