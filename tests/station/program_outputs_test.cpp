@@ -19,6 +19,7 @@
 #include "station/app/frames_csv.h"
 #include "station/app/run_progress.h"
 #include "station/app/trace_plot.h"
+#include "support/solid_image.h"
 
 namespace hd::station {
 namespace {
@@ -69,14 +70,7 @@ TEST(FrameLog, KeepsTheFirstCapacityRowsAndCountsTheRest) {
 }
 
 render::ImageRgba8 solid(int w, int h, uint8_t r, uint8_t g, uint8_t b) {
-  render::ImageRgba8 img;
-  img.allocate(w, h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      uint8_t* p = img.pixel(x, y);
-      p[0] = r, p[1] = g, p[2] = b, p[3] = 255;
-    }
-  return img;
+  return testing::solid_image(w, h, r, g, b);
 }
 
 TEST(ThumbnailSet, PicksTheFirstFrameOfEveryPhaseAndSpreadsTheRest) {

@@ -8,18 +8,13 @@
 #include <stdexcept>
 #include <vector>
 
+#include "support/solid_image.h"
+
 namespace hd::station {
 namespace {
 
 render::ImageRgba8 filled(int w, int h, uint8_t r, uint8_t g, uint8_t b) {
-  render::ImageRgba8 im;
-  im.allocate(w, h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      uint8_t* p = im.pixel(x, y);
-      p[0] = r, p[1] = g, p[2] = b, p[3] = 255;
-    }
-  return im;
+  return testing::solid_image(w, h, r, g, b);
 }
 
 // INFERNO's colour at map index i, straight from OpenCV: the expectation does not go through
