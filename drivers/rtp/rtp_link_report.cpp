@@ -1,4 +1,6 @@
-// RtpCamera as a CameraLink: its receive statistics and RTCP feedback in the station's terms.
+// RtpCamera's counters: stats() (its own, the pipeline's, the calibrations', the clock's) and,
+// as a CameraLink, them with the RTCP feedback in the station's terms (link_report()).
+#include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/rtp_camera.h"
 
 namespace hd::drivers {
@@ -31,6 +33,30 @@ LinkReport RtpCamera::link_report() const {
   r.sender_reports = st.sender_reports;
   r.capture_after_arrival = st.capture_after_arrival;
   return r;
+}
+
+ClockMapping RtpCamera::clock_mapping() const {
+  return stamper_.clock_mapping(monotonic_now_ns());
+}
+
+uint64_t RtpCamera::dropped_frames() const {
+  return counters_.wrong_format.load(std::memory_order_relaxed);
+}
+
+RtpCameraStats RtpCamera::stats() const {
+  RtpCameraStats s = counters_.snapshot(config_.srtp_key.has_value());
+  s.bus_errors = pipeline_.errors();
+  s.restarts = pipeline_.restarts();
+  s.last_error = pipeline_.last_error();
+  const RtpCalibrationCache::Counts c = calibrations_.counts();
+  s.calibration_errors = c.refused;
+  s.calibration_errors_total = c.refused_total;
+  s.calibrations_received = c.received;
+  s.frames_with_calibration = c.frames_with_calibration;
+  s.calibration_size_mismatch = c.size_mismatch;
+  s.calibration = calibrations_.newest();
+  s.clock = clock_mapping();
+  return s;
 }
 
 }  // namespace hd::drivers
