@@ -30,6 +30,7 @@ RtpCamera::RtpCamera(RtpReceiveConfig config)
       stream_guard_(config_.stall_timeout_ns),
       stamper_(config_),
       view_(view_key_of(config_)),
+      sockets_(config_.receive_buffer_bytes, config_.rtcp_receive_buffer_bytes),
       pipeline_({"camera " + to_uri(config_.listen), "receive pipeline",
                  receive_pipeline_description(config_)},
                 {[this](PipelineRunner& p) { wire(p); },
@@ -81,7 +82,11 @@ FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
                          "round trip (until measured: this host's CLOCK_REALTIME, exact on one "
                          "host only)")) +
       (config_.srtp_key ? "; SRTP AES-128-GCM required (key file " + config_.srtp_key->file + ")"
-                        : std::string("; no encryption (no key_file)"));
+                        : std::string("; no encryption (no key_file)")) +
+      // Measured now on a socket of its own (the pipeline's open at start), set as udpsrc will:
+      // this process, this kernel, these limits.
+      "; RTP receive buffer " +
+      socket_buffer_text(probe_socket_buffer(config_.receive_buffer_bytes));
   return n;
 }
 
@@ -94,6 +99,7 @@ void RtpCamera::start() {
                       std::to_string(config_.listen.port) + ": " +
                       (why.empty() ? "the pipeline refused to start" : why));
   }
+  measure_sockets();  // what udpsrc got (its sockets open when the pipeline plays)
   last_frame_ns_.store(monotonic_now_ns(), std::memory_order_relaxed);
   // Nothing has arrived yet: stalled until the first frame (never streaming without video).
   state_.store(SourceState::kStalled, std::memory_order_release);
@@ -103,11 +109,13 @@ void RtpCamera::start() {
 
 void RtpCamera::stop() {
   if (!running_.exchange(false)) return;
+  measure_sockets();  // the kernel's last drop count: the sockets close with the pipeline
   pipeline_.stop();
   state_.store(SourceState::kClosed, std::memory_order_release);
 }
 
 void RtpCamera::on_bus_error() {
+  measure_sockets();  // before the teardown closes them
   state_.store(SourceState::kDisconnected, std::memory_order_release);
 }
 
@@ -194,6 +202,7 @@ GstPadProbeReturn RtpCamera::on_decrypted(GstBuffer* buffer) {
 // instead of waiting for its next one. A jitter buffer that resynchronises after a long gap
 // reports no loss, so the depayloader would not.
 void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
+  counters_.packets_depayloaded.fetch_add(1, std::memory_order_relaxed);
   if (state_.load(std::memory_order_acquire) == SourceState::kStalled &&
       counters_.frames_published.load(std::memory_order_relaxed) > 0 &&
       !key_frame_requested_.exchange(true, std::memory_order_acq_rel)) {
@@ -244,6 +253,7 @@ void RtpCamera::on_access_unit(GstBuffer* buffer) {
 }
 
 void RtpCamera::on_decoded(GstBuffer* buffer) {
+  counters_.frames_decoded.fetch_add(1, std::memory_order_relaxed);
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
   if (GST_CLOCK_TIME_IS_VALID(pts)) stamper_.add_decoded(pts, monotonic_now_ns());
 }
@@ -252,6 +262,7 @@ void RtpCamera::on_decoded(GstBuffer* buffer) {
 void RtpCamera::on_sample(GstElement* sink) {
   const GstSamplePtr sample(gst_app_sink_pull_sample(GST_APP_SINK(sink)));
   if (!sample) return;
+  counters_.frames_converted.fetch_add(1, std::memory_order_relaxed);
   const int64_t now = monotonic_now_ns();
   GstVideoInfo info;
   GstBuffer* buffer = gst_sample_get_buffer(sample.get());  // borrowed from the sample
