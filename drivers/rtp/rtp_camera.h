@@ -47,9 +47,9 @@ struct RtpFrameTiming {
 };
 
 /// Receives `rtp://HOST:PORT`: the pipeline of receive_pipeline_description() (udpsrc → rtpbin
-/// with a small jitter buffer and NACK/RTX → rtph264depay → avdec_h264 → RGBA → appsink), whose
-/// appsink callback copies each decoded frame into the pre-sized mailbox (no allocation once the
-/// three slots are sized; the render thread only fetches).
+/// with a small jitter buffer and NACK/RTX → queue → rtph264depay → avdec_h264 → RGBA → appsink),
+/// whose appsink callback copies each decoded frame into the pre-sized mailbox (no allocation once
+/// the three slots are sized; the render thread only fetches).
 ///
 /// Size: negotiate() takes the calibrated size as the expected one (the stream cannot be asked
 /// for a size, so the answer is "unknown until the first frame"); a decoded frame of another size

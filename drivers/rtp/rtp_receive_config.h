@@ -31,6 +31,11 @@ struct RtpReceiveConfig {
   int rtx_delay_ms = 1;
   int rtx_delay_reorder = 1;
   int64_t stall_timeout_ns = 500'000'000;  ///< no frame for this long: kStalled
+  /// The most packets (in their time) waiting between the jitter buffer and the decoder, whose
+  /// thread may wait for a CPU: the jitter buffer never waits for the decoder within it. 0.5 s,
+  /// the stall timeout: video that far behind is shown as old anyway, and every packet is still
+  /// needed, as each frame is a reference for the next.
+  int decode_queue_ms = 500;
   /// The RTP socket's receive buffer, bytes (udpsrc buffer-size; 0: the system's default,
   /// net.core.rmem_default, 208 KiB on stock Linux). It holds what arrives while udpsrc's thread
   /// waits for a CPU; past it the kernel drops datagrams. A key frame comes as one burst: up to

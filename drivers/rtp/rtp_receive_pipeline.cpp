@@ -58,8 +58,15 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
                          kSrtpEncoderCiphers + " " + kSrtpEncoder + ".rtcp_src_0 ! "
                    : std::string()) +
        "multiudpsink name=" + kRtcpSink + " sync=false async=false ";
-  d += std::string(kRtpBin) + ". ! " + depayloader_description() + " ! " + decoder_description() +
-       " ! appsink name=" + kAppSink + " sync=false max-buffers=1 drop=true";
+  // The jitter buffer's own thread pushes into a queue, and the queue's thread depayloads,
+  // decodes and converts: a decoder that waits for a CPU must not hold the jitter buffer, which
+  // with drop-on-latency then drops the packets that piled up beyond its latency (measured: up
+  // to 124 in 2 s with the CPUs busy, each costing the frames up to the next key frame).
+  d += std::string(kRtpBin) + ". ! queue name=" + kDecodeQueue +
+       " max-size-buffers=0 max-size-bytes=0 max-size-time=" +
+       std::to_string(int64_t{c.decode_queue_ms} * 1'000'000) + " ! " + depayloader_description() +
+       " ! " + decoder_description() + " ! appsink name=" + kAppSink +
+       " sync=false max-buffers=1 drop=true";
   return d;
 }
 

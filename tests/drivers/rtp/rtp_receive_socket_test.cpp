@@ -1,6 +1,6 @@
-// The receive sockets' buffers and kernel drops without a camera: the pipeline asks udpsrc for
-// the configured buffers, the report names the sysctl when the kernel gave less, and the drops
-// read from /proc/net/udp are the datagrams an unread socket could not hold.
+// The receive path's buffers and kernel drops without a camera: the pipeline asks udpsrc for the
+// configured buffers and decodes behind a queue, the report names the sysctl when the kernel gave
+// less, and the drops read from /proc/net/udp are the datagrams an unread socket could not hold.
 #include "drivers/rtp/rtp_receive_socket.h"
 
 #include <arpa/inet.h>
@@ -48,6 +48,21 @@ TEST(RtpReceiveSocket, ThePipelineAsksBothUdpsrcsForTheirConfiguredBuffers) {
   const RtpReceiveConfig defaults;
   EXPECT_EQ(defaults.receive_buffer_bytes, 2 * 1024 * 1024);
   EXPECT_GT(defaults.rtcp_receive_buffer_bytes, 0);
+}
+
+// The jitter buffer's thread only hands packets to the queue; depayloading, decoding and the
+// conversion run on the queue's thread, which may wait for a CPU up to decode_queue_ms behind.
+TEST(RtpReceiveSocket, TheDecoderRunsBehindAQueueSoTheJitterBufferNeverWaitsForIt) {
+  RtpReceiveConfig c;
+  c.listen = {"127.0.0.1", 5600};
+  c.decode_queue_ms = 300;
+  const std::string d = receive_pipeline_description(c);
+  EXPECT_NE(d.find(std::string("rtpbin. ! queue name=") + rtp_elements::kDecodeQueue +
+                   " max-size-buffers=0 max-size-bytes=0 max-size-time=300000000 ! " +
+                   depayloader_description() + " ! "),
+            std::string::npos)
+      << d;
+  EXPECT_EQ(RtpReceiveConfig{}.decode_queue_ms, 500);
 }
 
 TEST(SocketBufferText, SaysAskedGotAndTheLimitAndNamesTheSysctlOnlyWhenItGotLess) {
