@@ -26,6 +26,16 @@ struct LinkReport {
   int64_t clock_offset_ns = 0, clock_uncertainty_ns = -1, clock_round_trip_ns = -1;
   uint64_t clock_samples = 0, sender_reports = 0;
   uint64_t capture_after_arrival = 0;  ///< mapped capture times after the arrival: replaced
+  /// The receive path's losses before a frame could be shown (drivers/rtp/rtp_camera_stats.h):
+  /// the socket's kernel buffer asked / given / the system's limit (bytes; -1 unknown), and in
+  /// words with what to do when it got less; datagrams the kernel dropped (-1 unknown); packets
+  /// the jitter buffer dropped; frames decoded and frames through the conversion.
+  int64_t receive_buffer_asked = 0, receive_buffer_bytes = -1, rmem_max_bytes = -1;
+  int64_t rtcp_buffer_asked = 0, rtcp_buffer_bytes = -1;
+  std::string receive_buffer;
+  int64_t kernel_drops = -1;
+  uint64_t jitter_too_late = 0, jitter_over_latency = 0;
+  uint64_t frames_decoded = 0, frames_converted = 0;
 };
 
 class CameraLink {

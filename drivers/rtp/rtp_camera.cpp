@@ -1,11 +1,9 @@
-// RtpCamera: its life (open, negotiate, start, stop), what its probes do with each packet and
-// frame, and its counters. The pipeline's wiring is in rtp_camera_wiring.cpp.
+// RtpCamera: its life (open, negotiate, start, stop) and what its probes do with each packet and
+// frame. The pipeline's wiring is in rtp_camera_wiring.cpp, its RTCP side in rtp_camera_rtcp.cpp,
+// its counters in rtp_link_report.cpp.
 #include "drivers/rtp/rtp_camera.h"
 
-#include <gio/gio.h>
 #include <gst/app/gstappsink.h>
-#include <gst/net/gstnetaddressmeta.h>
-#include <gst/rtp/gstrtcpbuffer.h>
 #include <gst/video/video.h>
 
 #include <cstring>
@@ -32,6 +30,7 @@ RtpCamera::RtpCamera(RtpReceiveConfig config)
       stream_guard_(config_.stall_timeout_ns),
       stamper_(config_),
       view_(view_key_of(config_)),
+      sockets_(config_.receive_buffer_bytes, config_.rtcp_receive_buffer_bytes),
       pipeline_({"camera " + to_uri(config_.listen), "receive pipeline",
                  receive_pipeline_description(config_)},
                 {[this](PipelineRunner& p) { wire(p); },
@@ -83,7 +82,11 @@ FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
                          "round trip (until measured: this host's CLOCK_REALTIME, exact on one "
                          "host only)")) +
       (config_.srtp_key ? "; SRTP AES-128-GCM required (key file " + config_.srtp_key->file + ")"
-                        : std::string("; no encryption (no key_file)"));
+                        : std::string("; no encryption (no key_file)")) +
+      // Measured now on a socket of its own (the pipeline's open at start), set as udpsrc will:
+      // this process, this kernel, these limits.
+      "; RTP receive buffer " +
+      socket_buffer_text(probe_socket_buffer(config_.receive_buffer_bytes));
   return n;
 }
 
@@ -96,6 +99,7 @@ void RtpCamera::start() {
                       std::to_string(config_.listen.port) + ": " +
                       (why.empty() ? "the pipeline refused to start" : why));
   }
+  measure_sockets();  // what udpsrc got (its sockets open when the pipeline plays)
   last_frame_ns_.store(monotonic_now_ns(), std::memory_order_relaxed);
   // Nothing has arrived yet: stalled until the first frame (never streaming without video).
   state_.store(SourceState::kStalled, std::memory_order_release);
@@ -105,11 +109,13 @@ void RtpCamera::start() {
 
 void RtpCamera::stop() {
   if (!running_.exchange(false)) return;
+  measure_sockets();  // the kernel's last drop count: the sockets close with the pipeline
   pipeline_.stop();
   state_.store(SourceState::kClosed, std::memory_order_release);
 }
 
 void RtpCamera::on_bus_error() {
+  measure_sockets();  // before the teardown closes them
   state_.store(SourceState::kDisconnected, std::memory_order_release);
 }
 
@@ -191,30 +197,12 @@ GstPadProbeReturn RtpCamera::on_decrypted(GstBuffer* buffer) {
   return GST_PAD_PROBE_OK;
 }
 
-// The RTCP source's output: RTCP feedback (receiver reports, NACK, PLI) and the view feedback go
-// back to where the sender's RTCP comes from.
-void RtpCamera::on_rtcp_from_sender(GstBuffer* buffer) {
-  GstNetAddressMeta* meta = gst_buffer_get_net_address_meta(buffer);
-  if (meta == nullptr || !G_IS_INET_SOCKET_ADDRESS(meta->addr)) return;
-  GInetSocketAddress* a = G_INET_SOCKET_ADDRESS(meta->addr);
-  const GCharPtr host(g_inet_address_to_string(g_inet_socket_address_get_address(a)));
-  const int port = g_inet_socket_address_get_port(a);
-  const std::string where = std::string(host.get()) + ":" + std::to_string(port);
-  if (where == feedback_to_) return;
-  feedback_to_ = where;  // a new sender (or the first): feedback goes there now
-  if (const GstElementPtr sink = pipeline_.find(rtp_elements::kRtcpSink)) {
-    g_signal_emit_by_name(sink.get(), "clear");
-    g_signal_emit_by_name(sink.get(), "add", host.get(), port);
-  }
-  counters_.feedback_targets.fetch_add(1, std::memory_order_relaxed);
-  view_.set_target(host.get(), port);
-}
-
 // The depayloader's input, after the jitter buffer. Packets again after a stall (a cut link, a
 // sender that paused): the frames in between are gone, so ask the sender for a key frame at once
 // instead of waiting for its next one. A jitter buffer that resynchronises after a long gap
 // reports no loss, so the depayloader would not.
 void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
+  counters_.packets_depayloaded.fetch_add(1, std::memory_order_relaxed);
   if (state_.load(std::memory_order_acquire) == SourceState::kStalled &&
       counters_.frames_published.load(std::memory_order_relaxed) > 0 &&
       !key_frame_requested_.exchange(true, std::memory_order_acq_rel)) {
@@ -264,39 +252,8 @@ void RtpCamera::on_access_unit(GstBuffer* buffer) {
   counters_.key_frames.fetch_add(1, std::memory_order_release);
 }
 
-ClockMapping RtpCamera::clock_mapping() const {
-  return stamper_.clock_mapping(monotonic_now_ns());
-}
-
-// RTCP into rtpbin (after srtpdec): each sender report is a sample of the sender's clock against
-// its arrival here (udpsrc's arrival stamp on the pipeline clock, CLOCK_MONOTONIC).
-void RtpCamera::on_rtcp_into_rtpbin(GstBuffer* buffer) {
-  const int64_t now = monotonic_now_ns();
-  int64_t arrival = now;
-  const GstClockTime pts = GST_BUFFER_PTS(buffer);
-  const GstClockTime base = pipeline_.base_time();
-  if (GST_CLOCK_TIME_IS_VALID(pts) && base != 0 && int64_t(pts + base) <= now)
-    arrival = int64_t(pts + base);
-  GstRTCPBuffer rtcp = GST_RTCP_BUFFER_INIT;
-  if (!gst_rtcp_buffer_validate_reduced(buffer) ||
-      !gst_rtcp_buffer_map(buffer, GST_MAP_READ, &rtcp))
-    return;
-  GstRTCPPacket packet;
-  for (gboolean more = gst_rtcp_buffer_get_first_packet(&rtcp, &packet); more;
-       more = gst_rtcp_packet_move_to_next(&packet)) {
-    if (gst_rtcp_packet_get_type(&packet) != GST_RTCP_TYPE_SR) continue;
-    guint32 ssrc = 0, rtptime = 0, packets = 0, octets = 0;
-    guint64 ntp = 0;
-    gst_rtcp_packet_sr_get_sender_info(&packet, &ssrc, &ntp, &rtptime, &packets, &octets);
-    const auto sent = ntp64_to_unix_ns(ntp);
-    if (!sent) continue;
-    counters_.sender_reports.fetch_add(1, std::memory_order_relaxed);
-    stamper_.add_sender_report(*sent, arrival);
-  }
-  gst_rtcp_buffer_unmap(&rtcp);
-}
-
 void RtpCamera::on_decoded(GstBuffer* buffer) {
+  counters_.frames_decoded.fetch_add(1, std::memory_order_relaxed);
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
   if (GST_CLOCK_TIME_IS_VALID(pts)) stamper_.add_decoded(pts, monotonic_now_ns());
 }
@@ -305,6 +262,7 @@ void RtpCamera::on_decoded(GstBuffer* buffer) {
 void RtpCamera::on_sample(GstElement* sink) {
   const GstSamplePtr sample(gst_app_sink_pull_sample(GST_APP_SINK(sink)));
   if (!sample) return;
+  counters_.frames_converted.fetch_add(1, std::memory_order_relaxed);
   const int64_t now = monotonic_now_ns();
   GstVideoInfo info;
   GstBuffer* buffer = gst_sample_get_buffer(sample.get());  // borrowed from the sample
@@ -383,109 +341,12 @@ void RtpCamera::on_sample(GstElement* sink) {
   state_.store(SourceState::kStreaming, std::memory_order_release);
 }
 
-RtpCamera::Feedback RtpCamera::feedback() const {
-  Feedback f;
-  f.key_frame_requests = counters_.key_frame_requests.load(std::memory_order_relaxed);
-  f.view_feedback_sent = view_.sent();
-  if (const GstElementPtr rtx = pipeline_.find(rtp_elements::kRtxReceive)) {
-    guint requests = 0, packets = 0;
-    g_object_get(rtx.get(), "num-rtx-requests", &requests, "num-rtx-packets", &packets, nullptr);
-    f.rtx_requested = requests;
-    f.rtx_received = packets;
-  }
-  const GstElementPtr rtpbin = pipeline_.find(rtp_elements::kRtpBin);
-  if (!rtpbin) return f;
-  GObject* session_out = nullptr;
-  g_signal_emit_by_name(rtpbin.get(), "get-internal-session", 0u, &session_out);
-  const GObjectPtr<GObject> session(session_out);
-  if (!session) return f;
-  GstStructure* stats_out = nullptr;
-  g_object_get(session.get(), "stats", &stats_out, nullptr);
-  const GstStructurePtr stats(stats_out);
-  if (!stats) return f;
-  const GValue* sources = gst_structure_get_value(stats.get(), "source-stats");
-  // rtpsession's "source-stats" is a GValueArray (deprecated in GLib, still what 1.22 returns).
-  G_GNUC_BEGIN_IGNORE_DEPRECATIONS
-  if (sources != nullptr && G_VALUE_HOLDS(sources, g_value_array_get_type())) {
-    GValueArray* array = static_cast<GValueArray*>(g_value_get_boxed(sources));
-    for (guint i = 0; array != nullptr && i < array->n_values; ++i) {
-      const GstStructure* src = gst_value_get_structure(g_value_array_get_nth(array, i));
-      gboolean internal = TRUE, have_sr = FALSE;
-      gst_structure_get_boolean(src, "internal", &internal);
-      if (internal) continue;  // our own source
-      guint pli = 0, nack = 0;
-      gst_structure_get_uint(src, "sent-pli-count", &pli);
-      gst_structure_get_uint(src, "sent-nack-count", &nack);
-      gst_structure_get_boolean(src, "have-sr", &have_sr);
-      f.pli_sent += pli;
-      f.nack_sent += nack;
-      f.rtcp_received_from_sender += have_sr ? 1 : 0;
-    }
-  }
-  G_GNUC_END_IGNORE_DEPRECATIONS
-  return f;
-}
-
-void RtpCamera::set_view_needed(bool needed) {
-  view_.set_needed(needed);
-}
-
-// Bus thread: the pipeline (and its RTCP socket) is stable here.
-void RtpCamera::send_view_feedback() {
-  const int64_t now = monotonic_now_ns();
-  if (!view_.due(now)) return;
-  const GstElementPtr src = pipeline_.find(rtp_elements::kRtcpSource);
-  if (!src) return;
-  GSocket* socket_out = nullptr;
-  g_object_get(src.get(), "used-socket", &socket_out, nullptr);
-  const GObjectPtr<GSocket> socket(socket_out);
-  if (!socket) return;
-  // With the stream's key the message carries a tag, so that nobody else can lower a camera.
-  const ViewFeedbackSchedule::Message m = view_.take(now);
-  const GObjectPtr<GSocketAddress> to(
-      g_inet_socket_address_new_from_string(m.host.c_str(), m.port));
-  if (to && g_socket_send_to(socket.get(), to.get(), reinterpret_cast<const gchar*>(m.bytes.data()),
-                             m.size, nullptr, nullptr) == gssize(m.size))
-    view_.count_sent();
-}
-
-bool RtpCamera::request_key_frame() {
-  const GstElementPtr depay = pipeline_.find(rtp_elements::kDepayloader);
-  if (!depay) return false;
-  const GstPadPtr pad(gst_element_get_static_pad(depay.get(), "sink"));
-  const gboolean sent =
-      pad && gst_pad_push_event(pad.get(), gst_video_event_new_upstream_force_key_unit(
-                                               GST_CLOCK_TIME_NONE, TRUE, 0));
-  if (sent) counters_.key_frame_requests.fetch_add(1, std::memory_order_relaxed);
-  return sent;
-}
-
 bool RtpCamera::set_netsim_drop_probability(double p) {
   if (!config_.netsim()) return false;
   const GstElementPtr n = pipeline_.find(rtp_elements::kNetsim);
   if (!n) return false;
   g_object_set(n.get(), "drop-probability", static_cast<gfloat>(p), nullptr);
   return true;
-}
-
-uint64_t RtpCamera::dropped_frames() const {
-  return counters_.wrong_format.load(std::memory_order_relaxed);
-}
-
-RtpCameraStats RtpCamera::stats() const {
-  RtpCameraStats s = counters_.snapshot(config_.srtp_key.has_value());
-  s.bus_errors = pipeline_.errors();
-  s.restarts = pipeline_.restarts();
-  s.last_error = pipeline_.last_error();
-  const RtpCalibrationCache::Counts c = calibrations_.counts();
-  s.calibration_errors = c.refused;
-  s.calibration_errors_total = c.refused_total;
-  s.calibrations_received = c.received;
-  s.frames_with_calibration = c.frames_with_calibration;
-  s.calibration_size_mismatch = c.size_mismatch;
-  s.calibration = calibrations_.newest();
-  s.clock = clock_mapping();
-  return s;
 }
 
 }  // namespace hd::drivers

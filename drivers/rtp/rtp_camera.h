@@ -19,6 +19,7 @@
 #include "drivers/rtp/rtp_frame_stamper.h"
 #include "drivers/rtp/rtp_packet.h"
 #include "drivers/rtp/rtp_receive_config.h"
+#include "drivers/rtp/rtp_receive_socket.h"
 #include "drivers/rtp/rtp_stream_guard.h"
 #include "drivers/rtp/view_feedback_schedule.h"
 #include "drivers/spsc_ring.h"
@@ -46,9 +47,9 @@ struct RtpFrameTiming {
 };
 
 /// Receives `rtp://HOST:PORT`: the pipeline of receive_pipeline_description() (udpsrc → rtpbin
-/// with a small jitter buffer and NACK/RTX → rtph264depay → avdec_h264 → RGBA → appsink), whose
-/// appsink callback copies each decoded frame into the pre-sized mailbox (no allocation once the
-/// three slots are sized; the render thread only fetches).
+/// with a small jitter buffer and NACK/RTX → queue → rtph264depay → avdec_h264 → RGBA → appsink),
+/// whose appsink callback copies each decoded frame into the pre-sized mailbox (no allocation once
+/// the three slots are sized; the render thread only fetches).
 ///
 /// Size: negotiate() takes the calibrated size as the expected one (the stream cannot be asked
 /// for a size, so the answer is "unknown until the first frame"); a decoded frame of another size
@@ -78,6 +79,11 @@ struct RtpFrameTiming {
 /// Bad input: every UDP datagram on the RTP port is checked with parse_rtp_packet and its H.264
 /// payload with check_h264_payload (after srtpdec with a key) before the depayloader sees it; a
 /// malformed one is dropped and counted by reason.
+///
+/// Losses: the RTP socket's kernel buffer is sized for bursts and a busy machine
+/// (RtpReceiveConfig::receive_buffer_bytes; the start report says what the system gave), and what
+/// the receive path drops is counted where it happens: the kernel's drops on the socket, the
+/// jitter buffer's, the frames between decoder and appsink (stats()).
 class RtpCamera final : public CameraSource, public CameraLink {
  public:
   explicit RtpCamera(RtpReceiveConfig config);
@@ -159,6 +165,9 @@ class RtpCamera final : public CameraSource, public CameraLink {
   void on_decoded(GstBuffer* buffer);
   // udpsrc's arrival stamp of `buffer` on CLOCK_MONOTONIC (the pipeline clock), or now.
   int64_t arrival_ns(GstBuffer* buffer) const;
+  // Reads the receive sockets' buffers and the kernel's drops into sockets_ (not the render
+  // thread): after start, before a teardown (an error, stop) and in stats().
+  void measure_sockets() const;
 
   RtpReceiveConfig config_;
   CameraFormat format_;  // negotiated: expected size, H.264 on the wire
@@ -185,7 +194,8 @@ class RtpCamera final : public CameraSource, public CameraLink {
   // published frame, so each outage asks once (more come from the depayloader on every loss).
   std::atomic<bool> key_frame_requested_{false};
   SpscRing<RtpFrameTiming, 1024> timings_;
-  FormatWatch format_watch_;  // streaming thread; the station pops its events
+  FormatWatch format_watch_;            // streaming thread; the station pops its events
+  mutable ReceiveSocketWatch sockets_;  // measured from const stats() too: it locks itself
   // Last: destroyed first, so that its bus thread and probes never see a member gone.
   PipelineRunner pipeline_;
 };

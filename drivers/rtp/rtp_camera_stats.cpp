@@ -32,6 +32,11 @@ RtpCameraStats RtpCameraCounters::snapshot(bool srtp) const {
   s.last_camera_index = last_camera_index.load(relaxed);
   s.last_calibration_revision = last_calibration_revision.load(relaxed);
   s.sender_reports = sender_reports.load(relaxed);
+  s.jitter_too_late = jitter_too_late.load(relaxed);
+  s.jitter_over_latency = jitter_over_latency.load(relaxed);
+  s.packets_depayloaded = packets_depayloaded.load(relaxed);
+  s.frames_decoded = frames_decoded.load(relaxed);
+  s.frames_converted = frames_converted.load(relaxed);
   return s;
 }
 

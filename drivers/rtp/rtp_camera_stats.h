@@ -13,6 +13,7 @@
 #include "drivers/rtp/rtp_calibration.h"
 #include "drivers/rtp/rtp_frame_stamp.h"
 #include "drivers/rtp/rtp_packet.h"
+#include "drivers/rtp/rtp_receive_socket.h"
 
 namespace hd::drivers {
 
@@ -69,6 +70,22 @@ struct RtpCameraStats {
   std::string last_error;       ///< the newest bus error's text ("" none)
   ClockMapping clock;           ///< the sender-clock mapping in use now
   uint64_t sender_reports = 0;  ///< RTCP sender reports received (clock samples)
+  /// Where the receive path can drop what arrived, before a frame is shown:
+  /// - the sockets' kernel buffers as asked and given (rtp_receive_socket.h), and the datagrams
+  ///   the kernel dropped on the RTP socket, its buffer full (-1: not measured yet);
+  SocketBuffer rtp_buffer, rtcp_buffer;
+  int64_t kernel_drops = -1;
+  /// - packets rtpbin's jitter buffer dropped (its drop messages): too late (a later packet had
+  ///   already left it, or it had been declared lost), and, with drop-on-latency, its oldest
+  ///   packet when it held more than its latency (its output thread, which depayloads, decodes
+  ///   and converts, fell behind);
+  uint64_t jitter_too_late = 0, jitter_over_latency = 0;
+  /// - packets out of the jitter buffer into the depayloader; frames out of avdec_h264; frames
+  ///   into the appsink callback after videoconvert (decoded - converted: dropped in between;
+  ///   the appsink's max-buffers=1 drop=true never drops, as the callback pulls each sample
+  ///   before the next can come); then not_newer, wrong_format and calibration_size_mismatch
+  ///   are not published.
+  uint64_t packets_depayloaded = 0, frames_decoded = 0, frames_converted = 0;
 };
 
 /// The counts RtpCamera's threads keep (each counter written by one thread, read by any:
@@ -90,6 +107,8 @@ struct RtpCameraCounters {
   std::atomic<int> last_camera_index{-1};
   std::atomic<int64_t> last_calibration_revision{-1};
   std::atomic<uint64_t> sender_reports{0};
+  std::atomic<uint64_t> jitter_too_late{0}, jitter_over_latency{0};
+  std::atomic<uint64_t> packets_depayloaded{0}, frames_decoded{0}, frames_converted{0};
 
   void count(RtpPacketError e) {
     malformed[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);

@@ -16,32 +16,59 @@ RtpCamera& camera(gpointer self) {
   return *static_cast<RtpCamera*>(self);
 }
 
+// rtpjitterbuffer's "drop-msg" (post-drop-messages): the packets it dropped since its last one,
+// by reason (GStreamer 1.22: too late, which includes already declared lost, and over its
+// latency; later versions count already lost apart). Counted and taken off the bus.
+GstBusSyncReply count_jitter_drops(GstBus*, GstMessage* m, gpointer data) {
+  const GstStructure* s =
+      GST_MESSAGE_TYPE(m) == GST_MESSAGE_ELEMENT ? gst_message_get_structure(m) : nullptr;
+  if (s == nullptr || !gst_structure_has_name(s, "drop-msg")) return GST_BUS_PASS;
+  auto field = [s](const char* name) {
+    guint n = 0;
+    return gst_structure_get_uint(s, name, &n) ? uint64_t{n} : uint64_t{0};
+  };
+  RtpCameraCounters& c = *static_cast<RtpCameraCounters*>(data);
+  c.jitter_too_late.fetch_add(field("num-too-late") + field("num-already-lost"),
+                              std::memory_order_relaxed);
+  c.jitter_over_latency.fetch_add(field("num-drop-on-latency"), std::memory_order_relaxed);
+  return GST_BUS_DROP;
+}
+
 }  // namespace
 
 void RtpCamera::wire(PipelineRunner& p) {
   feedback_to_.clear();  // a new pipeline's multiudpsink has no destination yet
   const GstElementPtr rtpbin = p.element(rtp_elements::kRtpBin);
+  g_signal_connect(rtpbin.get(), "new-jitterbuffer",
+                   G_CALLBACK(+[](GstElement*, GstElement* jb, guint, guint, gpointer self) {
+                     // Every packet it drops is a message (count_jitter_drops), one each: a
+                     // longer interval would sum them, and the last sum would wait for a drop.
+                     g_object_set(jb, "post-drop-messages", TRUE, "drop-messages-interval", 0u,
+                                  nullptr);
+                     const RtpReceiveConfig& c = camera(self).config_;
+                     if (!c.retransmission) return;
+                     // No timer for "the next packet is due": it is due one packet spacing
+                     // after the last, an estimate the jitter buffer only corrects from a
+                     // next packet that came in time. A sender whose packets once came fast
+                     // (a burst, a fuzz's replay) taught it ~1 ms; each frame's first packet
+                     // then came 33 ms later, after the 20 ms latency: declared lost, dropped
+                     // as late, the frame lost, and the estimate never corrected (only key
+                     // frames were shown). A loss is found from the gap the next packet
+                     // leaves instead (rtx-delay-reorder).
+                     g_object_set(jb, "rtx-delay", c.rtx_delay_ms, "rtx-delay-reorder",
+                                  c.rtx_delay_reorder, "rtx-next-seqnum", FALSE, nullptr);
+                   }),
+                   this);
+  {  // in the posting thread (udpsrc's): the bus thread takes only errors off the bus
+    const GstBusPtr bus(gst_element_get_bus(p.raw()));
+    gst_bus_set_sync_handler(bus.get(), count_jitter_drops, &counters_, nullptr);
+  }
   if (config_.retransmission) {
     // RTX: answer rtpbin's request for an aux receiver, then request the pad that asks for it.
     g_signal_connect(rtpbin.get(), "request-aux-receiver",
                      G_CALLBACK(+[](GstElement*, guint session, gpointer self) {
                        return make_rtp_aux_bin(rtx_receive_description(camera(self).config_),
                                                session);
-                     }),
-                     this);
-    g_signal_connect(rtpbin.get(), "new-jitterbuffer",
-                     G_CALLBACK(+[](GstElement*, GstElement* jb, guint, guint, gpointer self) {
-                       const RtpReceiveConfig& c = camera(self).config_;
-                       // No timer for "the next packet is due": it is due one packet spacing
-                       // after the last, an estimate the jitter buffer only corrects from a
-                       // next packet that came in time. A sender whose packets once came fast
-                       // (a burst, a fuzz's replay) taught it ~1 ms; each frame's first packet
-                       // then came 33 ms later, after the 20 ms latency: declared lost, dropped
-                       // as late, the frame lost, and the estimate never corrected (only key
-                       // frames were shown). A loss is found from the gap the next packet
-                       // leaves instead (rtx-delay-reorder).
-                       g_object_set(jb, "rtx-delay", c.rtx_delay_ms, "rtx-delay-reorder",
-                                    c.rtx_delay_reorder, "rtx-next-seqnum", FALSE, nullptr);
                      }),
                      this);
   }

@@ -1,5 +1,9 @@
-// RtpCamera as a CameraLink: its receive statistics and RTCP feedback in the station's terms.
+// RtpCamera's counters: stats() (its own, the pipeline's, the calibrations', the clock's) and,
+// as a CameraLink, them with the RTCP feedback in the station's terms (link_report()).
+#include "drivers/clock/monotonic_clock.h"
+#include "drivers/gobject_ptr.h"
 #include "drivers/rtp/rtp_camera.h"
+#include "drivers/rtp/rtp_receive_pipeline.h"
 
 namespace hd::drivers {
 
@@ -30,7 +34,60 @@ LinkReport RtpCamera::link_report() const {
   r.clock_samples = st.clock.samples;
   r.sender_reports = st.sender_reports;
   r.capture_after_arrival = st.capture_after_arrival;
+  r.receive_buffer_asked = st.rtp_buffer.asked_bytes;
+  r.receive_buffer_bytes = st.rtp_buffer.got_bytes;
+  r.rmem_max_bytes = st.rtp_buffer.rmem_max_bytes;
+  r.rtcp_buffer_asked = st.rtcp_buffer.asked_bytes;
+  r.rtcp_buffer_bytes = st.rtcp_buffer.got_bytes;
+  r.receive_buffer = socket_buffer_text(st.rtp_buffer);
+  r.kernel_drops = st.kernel_drops;
+  r.jitter_too_late = st.jitter_too_late;
+  r.jitter_over_latency = st.jitter_over_latency;
+  r.frames_decoded = st.frames_decoded;
+  r.frames_converted = st.frames_converted;
   return r;
+}
+
+ClockMapping RtpCamera::clock_mapping() const {
+  return stamper_.clock_mapping(monotonic_now_ns());
+}
+
+uint64_t RtpCamera::dropped_frames() const {
+  return counters_.wrong_format.load(std::memory_order_relaxed);
+}
+
+RtpCameraStats RtpCamera::stats() const {
+  RtpCameraStats s = counters_.snapshot(config_.srtp_key.has_value());
+  s.bus_errors = pipeline_.errors();
+  s.restarts = pipeline_.restarts();
+  s.last_error = pipeline_.last_error();
+  const RtpCalibrationCache::Counts c = calibrations_.counts();
+  s.calibration_errors = c.refused;
+  s.calibration_errors_total = c.refused_total;
+  s.calibrations_received = c.received;
+  s.frames_with_calibration = c.frames_with_calibration;
+  s.calibration_size_mismatch = c.size_mismatch;
+  s.calibration = calibrations_.newest();
+  s.clock = clock_mapping();
+  measure_sockets();
+  const ReceiveSocketWatch::Report sockets = sockets_.report();
+  s.rtp_buffer = sockets.rtp;
+  s.rtcp_buffer = sockets.rtcp;
+  s.kernel_drops = sockets.kernel_drops;
+  return s;
+}
+
+// udpsrc's sockets as they are now (a closed one, after stop(), keeps its last figures).
+void RtpCamera::measure_sockets() const {
+  auto socket_of = [this](const char* name) {
+    GSocket* socket = nullptr;
+    if (const GstElementPtr e = pipeline_.find(name))
+      g_object_get(e.get(), "used-socket", &socket, nullptr);
+    return GObjectPtr<GSocket>(socket);
+  };
+  const GObjectPtr<GSocket> rtp = socket_of(rtp_elements::kRtpSource);
+  const GObjectPtr<GSocket> rtcp = socket_of(rtp_elements::kRtcpSource);
+  sockets_.measure(rtp.get(), rtcp.get());
 }
 
 }  // namespace hd::drivers

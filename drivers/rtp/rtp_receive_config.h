@@ -31,6 +31,27 @@ struct RtpReceiveConfig {
   int rtx_delay_ms = 1;
   int rtx_delay_reorder = 1;
   int64_t stall_timeout_ns = 500'000'000;  ///< no frame for this long: kStalled
+  /// The most packets (in their time) waiting between the jitter buffer and the decoder, whose
+  /// thread may wait for a CPU: the jitter buffer never waits for the decoder within it. 0.5 s,
+  /// the stall timeout: video that far behind is shown as old anyway, and every packet is still
+  /// needed, as each frame is a reference for the next.
+  int decode_queue_ms = 500;
+  /// The RTP socket's receive buffer, bytes (udpsrc buffer-size; 0: the system's default,
+  /// net.core.rmem_default, 208 KiB on stock Linux). It holds what arrives while udpsrc's thread
+  /// waits for a CPU; past it the kernel drops datagrams. A key frame comes as one burst: up to
+  /// a few hundred KB at 720p from a sender without a VBV cap (x264's default), and on loopback
+  /// within a millisecond; on top, the stream for as long as the thread may wait on a saturated
+  /// machine, up to the stall timeout: 0.5 s of 4 Mbit/s is 250 KB. So ~0.6 MB of payload, which
+  /// the kernel counts as whole skbs (~2.3 KB per 1.4 KB datagram: ~1 MB), and Linux grants
+  /// twice what is asked for that bookkeeping: 2 MiB asked holds it twice over. Each camera has
+  /// its own socket, so several cameras need no more each; the memory is only taken while
+  /// datagrams wait. Above net.core.rmem_max udpsrc forces it (SO_RCVBUFFORCE: root or
+  /// CAP_NET_ADMIN); otherwise the start report says what the system allows.
+  int receive_buffer_bytes = 2 * 1024 * 1024;
+  /// The RTCP socket's: a few ~100-byte reports a second, so any buffer holds seconds of them.
+  /// 208 KiB is stock Linux's rmem_default and rmem_max: every process gets it without
+  /// privilege, also on a host whose default was lowered.
+  int rtcp_receive_buffer_bytes = 212992;
   /// Fault injection in the receive path (GStreamer netsim before rtpbin; tests and the faults
   /// table only): a packet is dropped with this probability, and delayed by a uniformly
   /// distributed min..max ms.

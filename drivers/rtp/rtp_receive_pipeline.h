@@ -14,6 +14,7 @@ inline constexpr const char* kRtpBin = "rtpbin";
 inline constexpr const char* kRtpSource = "rtp_src";
 inline constexpr const char* kRtcpSource = "rtcp_src";
 inline constexpr const char* kRtcpSink = "rtcp_sink";
+inline constexpr const char* kDecodeQueue = "decodeq";  ///< jitter buffer → queue → depay
 inline constexpr const char* kDepayloader = "depay";
 inline constexpr const char* kDecoder = "dec";
 inline constexpr const char* kAppSink = "sink";
@@ -23,12 +24,13 @@ inline constexpr const char* kNetsim = "netsim";
 inline constexpr const char* kRtxReceive = "rtxreceive";
 }  // namespace rtp_elements
 
-/// udpsrc (RTP) [→ netsim] → rtpbin (jitter buffer, NACK/RTX) → rtph264depay (asks for a key
-/// frame on loss) → avdec_h264 (one thread: no frame-threading delay) → videoconvert → RGBA →
-/// appsink (no clock sync, newest frame only); udpsrc (RTCP) → rtpbin → multiudpsink (RTCP
-/// receiver reports and feedback to wherever the sender's RTCP comes from). With a key, srtpdec
-/// sits between both udpsrcs and rtpbin; the key is not in the description (the camera hands it
-/// to srtpdec's request-key signal), so the description can be shown.
+/// udpsrc (RTP; kernel buffer receive_buffer_bytes) [→ netsim] → rtpbin (jitter buffer,
+/// NACK/RTX) → queue (a thread of its own for what follows) → rtph264depay (asks for a key frame on
+/// loss) → avdec_h264 (one thread: no frame-threading delay) → videoconvert → RGBA → appsink (no
+/// clock sync, newest frame only); udpsrc (RTCP) → rtpbin → multiudpsink (RTCP receiver reports and
+/// feedback to wherever the sender's RTCP comes from). With a key, srtpdec sits between both
+/// udpsrcs and rtpbin; the key is not in the description (the camera hands it to srtpdec's
+/// request-key signal), so the description can be shown.
 ///
 /// The media chain (udpsrc [→ srtpdec] [→ netsim]) ends unlinked: the camera links
 /// receive_media_link() to rtpbin.recv_rtp_sink_0 after connecting its request-aux-receiver

@@ -67,6 +67,14 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  double(n.clock_uncertainty_ns) * 1e-6, double(n.clock_round_trip_ns) * 1e-6,
                  n.clock_samples, n.sender_reports, n.capture_after_arrival);
     std::fprintf(out,
+                 "  network camera %-12s receive buffer %s; dropped: %s by the kernel (its buffer "
+                 "full), %" PRIu64 " late and %" PRIu64
+                 " over its latency by the jitter buffer; %" PRIu64 " frames decoded, %" PRIu64
+                 " converted\n",
+                 c.name.c_str(), n.receive_buffer.c_str(),
+                 n.kernel_drops >= 0 ? std::to_string(n.kernel_drops).c_str() : "unknown",
+                 n.jitter_too_late, n.jitter_over_latency, n.frames_decoded, n.frames_converted);
+    std::fprintf(out,
                  "  network camera %-12s calibration: %s; %" PRIu64
                  " calibration elements refused, %" PRIu64 " frames not shown for want of one\n",
                  c.name.c_str(), n.calibration.c_str(), n.calibration_errors,
@@ -190,6 +198,17 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                      {"samples", n.clock_samples},
                      {"sender_reports", n.sender_reports},
                      {"capture_after_arrival", n.capture_after_arrival}};
+    last["receive"] = {{"buffer_asked_bytes", n.receive_buffer_asked},
+                       {"buffer_bytes", n.receive_buffer_bytes},
+                       {"rmem_max_bytes", n.rmem_max_bytes},
+                       {"rtcp_buffer_asked_bytes", n.rtcp_buffer_asked},
+                       {"rtcp_buffer_bytes", n.rtcp_buffer_bytes},
+                       {"buffer", n.receive_buffer},
+                       {"kernel_drops", n.kernel_drops},
+                       {"jitter_buffer_too_late", n.jitter_too_late},
+                       {"jitter_buffer_over_latency", n.jitter_over_latency},
+                       {"frames_decoded", n.frames_decoded},
+                       {"frames_converted", n.frames_converted}};
     last["calibration"] = n.calibration;
     last["calibration_errors"] = n.calibration_errors;
     last["frames_uncalibrated"] = n.frames_uncalibrated;

@@ -42,11 +42,15 @@ struct Watch {
 
 TEST(RemoteFaults, LossAndJitterTableNeverPresentsOldVideoAsNew) {
   constexpr double kSeconds = 2.0;  // of streaming per cell, after the first frame
+  // Where the frames went: decoded and published by the camera, shown (polled); and what the
+  // receive path dropped: datagrams by the kernel (the socket's buffer full), packets by the
+  // jitter buffer (late / over its latency). Counted over the whole cell, its start included.
   std::printf(
       "| loss | jitter ms | RTX | frames shown | frames lost (of %g s x 30 Hz) | old shown as new "
-      "| NACK sent | retransmissions received |\n",
+      "| NACK sent | retransmissions received | decoded | published | kernel drops | jitter "
+      "buffer drops late / over latency |\n",
       kSeconds);
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   uint64_t shown_5_percent[2] = {0, 0};  // frames shown at 5 % loss over the jitter cells: off, on
   for (double loss : {0.0, 0.01, 0.05})
     for (int jitter_ms : {0, 20, 50}) {
@@ -77,16 +81,25 @@ TEST(RemoteFaults, LossAndJitterTableNeverPresentsOldVideoAsNew) {
         }
         const double expected = kSeconds * 30.0;
         const RtpCamera::Feedback fb = cam.feedback();
-        std::printf("| %.0f %% | 0..%d | %s | %llu | %.0f | %llu | %llu | %llu |\n", loss * 100,
-                    jitter_ms, rtx ? "on" : "off", static_cast<unsigned long long>(w.shown),
-                    std::max(0.0, expected - double(w.shown)),
-                    static_cast<unsigned long long>(w.older_than_shown),
-                    static_cast<unsigned long long>(fb.nack_sent),
-                    static_cast<unsigned long long>(fb.rtx_received));
+        const RtpCameraStats st = cam.stats();
+        std::printf(
+            "| %.0f %% | 0..%d | %s | %llu | %.0f | %llu | %llu | %llu | %llu | %llu | %lld | %llu "
+            "/ %llu |\n",
+            loss * 100, jitter_ms, rtx ? "on" : "off", static_cast<unsigned long long>(w.shown),
+            std::max(0.0, expected - double(w.shown)),
+            static_cast<unsigned long long>(w.older_than_shown),
+            static_cast<unsigned long long>(fb.nack_sent),
+            static_cast<unsigned long long>(fb.rtx_received),
+            static_cast<unsigned long long>(st.frames_decoded),
+            static_cast<unsigned long long>(st.frames_published),
+            static_cast<long long>(st.kernel_drops),
+            static_cast<unsigned long long>(st.jitter_too_late),
+            static_cast<unsigned long long>(st.jitter_over_latency));
         // How many frames a cell shows depends on the machine's load as much as on the faults
         // (the table reports it); that video is shown at all is asserted by the wait above.
         EXPECT_EQ(w.older_than_shown, 0u) << loss << " " << jitter_ms << " rtx " << rtx;
-        EXPECT_EQ(cam.stats().capture_after_arrival, 0u) << loss << " " << jitter_ms;
+        EXPECT_EQ(st.capture_after_arrival, 0u) << loss << " " << jitter_ms;
+        EXPECT_GE(st.kernel_drops, 0) << "the socket's drops were not measured";
         if (!rtx) {
           shown_without_rtx = w.shown;
           EXPECT_EQ(fb.rtx_received, 0u);

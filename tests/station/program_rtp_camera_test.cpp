@@ -160,6 +160,7 @@ TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
   EXPECT_NE(report.find("camera   ok      net (" + id + ")"), std::string::npos) << report;
   EXPECT_NE(report.find("p_c from the station's calibration file"), std::string::npos) << report;
   EXPECT_NE(report.find("capture time = arrival time"), std::string::npos) << report;
+  EXPECT_NE(report.find("RTP receive buffer asked 2097152 B, got "), std::string::npos) << report;
   const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
   ASSERT_EQ(s["cameras"].size(), 1u);
   EXPECT_GT(s["cameras"][0]["frames_shown"].get<uint64_t>(), 0u) << s.dump(1);
@@ -176,6 +177,13 @@ TEST(StationRtpCamera, ThePlainGstLaunchSenderIsShownAsACamera) {
   EXPECT_EQ(n["clock"]["mapping"].get<std::string>().rfind("unmeasured", 0), 0u) << n.dump();
   EXPECT_EQ(n["clock"]["sender_reports"].get<uint64_t>(), 0u);
   EXPECT_EQ(n["clock"]["uncertainty_ns"].get<int64_t>(), -1);
+  // The receive socket as measured while it ran: its buffer and the kernel's drops on it.
+  const nlohmann::json& r = n["receive"];
+  EXPECT_EQ(r["buffer_asked_bytes"].get<int64_t>(), 2097152) << r.dump();
+  EXPECT_GT(r["buffer_bytes"].get<int64_t>(), 0) << r.dump();
+  EXPECT_GT(r["rmem_max_bytes"].get<int64_t>(), 0) << r.dump();
+  EXPECT_GE(r["kernel_drops"].get<int64_t>(), 0) << r.dump();
+  EXPECT_GT(r["frames_decoded"].get<uint64_t>(), 0u) << r.dump();
   if (!::testing::Test::HasFailure()) fs::remove_all(dir);
 }
 

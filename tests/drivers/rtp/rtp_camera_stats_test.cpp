@@ -30,6 +30,11 @@ TEST(RtpCameraCounters, ASnapshotCarriesEachCountAndTheMalformedTotal) {
   c.last_camera_index = 2;
   c.last_calibration_revision = 9;
   c.sender_reports += 5;
+  c.jitter_too_late += 6;
+  c.jitter_over_latency += 7;
+  c.packets_depayloaded += 8;
+  c.frames_decoded += 11;
+  c.frames_converted += 10;
   s = c.snapshot(false);
   EXPECT_EQ(s.packets, 10u);
   EXPECT_EQ(s.bytes, 12'000u);
@@ -48,6 +53,12 @@ TEST(RtpCameraCounters, ASnapshotCarriesEachCountAndTheMalformedTotal) {
   EXPECT_EQ(s.last_camera_index, 2);
   EXPECT_EQ(s.last_calibration_revision, 9);
   EXPECT_EQ(s.sender_reports, 5u);
+  EXPECT_EQ(s.jitter_too_late, 6u);
+  EXPECT_EQ(s.jitter_over_latency, 7u);
+  EXPECT_EQ(s.packets_depayloaded, 8u);
+  EXPECT_EQ(s.frames_decoded, 11u);
+  EXPECT_EQ(s.frames_converted, 10u);
+  EXPECT_EQ(s.kernel_drops, -1);  // the sockets are the camera's: not in these counters
   c.decrypted += 5;
   EXPECT_EQ(c.snapshot(false).srtp_decrypted, 0u);  // no key: no SRTP figures
   EXPECT_EQ(c.snapshot(false).srtp_rejected, 0u);
