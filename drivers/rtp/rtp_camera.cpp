@@ -22,6 +22,15 @@ std::optional<ViewFeedbackKey> view_key_of(const RtpReceiveConfig& c) {
   return view_feedback_key(*c.srtp_key);
 }
 
+JitterBudget::Settings budget_settings(const RtpReceiveConfig& c) {
+  JitterBudget::Settings s;
+  s.min_ms = c.jitter_buffer_latency_ms;
+  s.max_ms = std::max(c.jitter_buffer_latency_ms, c.jitter_buffer_max_ms);
+  s.start_ms = initial_latency_ms(c);
+  s.retransmission = c.retransmission;
+  return s;
+}
+
 }  // namespace
 
 RtpCamera::RtpCamera(RtpReceiveConfig config)
@@ -31,6 +40,9 @@ RtpCamera::RtpCamera(RtpReceiveConfig config)
       stamper_(config_),
       view_(view_key_of(config_)),
       sockets_(config_.receive_buffer_bytes, config_.rtcp_receive_buffer_bytes),
+      budget_(budget_settings(config_)),
+      latency_ms_(initial_latency_ms(config_)),
+      frame_end_(FrameEndRequester::create({})),
       pipeline_({"camera " + to_uri(config_.listen), "receive pipeline",
                  receive_pipeline_description(config_)},
                 {[this](PipelineRunner& p) { wire(p); },
@@ -40,7 +52,10 @@ RtpCamera::RtpCamera(RtpReceiveConfig config)
 
 RtpCamera::~RtpCamera() {
   stop();
+  frame_end_->shutdown();
   pipeline_.teardown();
+  std::lock_guard lock(budget_mutex_);
+  if (jitter_buffer_ != nullptr) gst_object_unref(jitter_buffer_);
 }
 
 std::string RtpCamera::pipeline_description() const {
@@ -121,6 +136,7 @@ void RtpCamera::on_bus_error() {
 
 void RtpCamera::on_bus_turn() {
   send_view_feedback();
+  apply_jitter_budget();
   const SourceState s = state_.load(std::memory_order_acquire);
   if (s == SourceState::kStreaming &&
       monotonic_now_ns() - last_frame_ns_.load(std::memory_order_relaxed) >
@@ -142,7 +158,16 @@ RtpPacketError RtpCamera::check_stream(const RtpPacketView& view, GstBuffer* buf
   const int64_t arrival = arrival_ns(buffer);
   const RtpPacketError e = stream_guard_.check(view, arrival);
   counters_.sequence_resyncs.store(stream_guard_.resyncs(), std::memory_order_relaxed);
-  if (e == RtpPacketError::kNone) stamper_.note_arrival(view.sequence, arrival);
+  if (e == RtpPacketError::kNone) {
+    stamper_.note_arrival(view.sequence, arrival);
+    // A frame's packets share its RTP time and come together: a new time is a frame that
+    // reached this host (counted before any fault injection; what was sent, for the shares).
+    if (view.timestamp != last_arrived_rtp_time_ ||
+        counters_.frames_arrived.load(std::memory_order_relaxed) == 0) {
+      last_arrived_rtp_time_ = view.timestamp;
+      counters_.frames_arrived.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
   return e;
 }
 
@@ -177,6 +202,7 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
     return GST_PAD_PROBE_DROP;
   }
   counters_.accepted.fetch_add(1, std::memory_order_relaxed);
+  if (!config_.srtp_key) set_feedback_target(buffer, false);
   return GST_PAD_PROBE_OK;
 }
 
@@ -194,6 +220,7 @@ GstPadProbeReturn RtpCamera::on_decrypted(GstBuffer* buffer) {
     return GST_PAD_PROBE_DROP;
   }
   counters_.decrypted.fetch_add(1, std::memory_order_relaxed);
+  set_feedback_target(buffer, false);  // authenticated: only the key's holder moves it
   return GST_PAD_PROBE_OK;
 }
 
@@ -246,6 +273,7 @@ void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
 
 // The depayloader's output: access units, where key frames are not delta units.
 void RtpCamera::on_access_unit(GstBuffer* buffer) {
+  counters_.access_units.fetch_add(1, std::memory_order_relaxed);
   if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DELTA_UNIT)) return;
   counters_.last_key_frame_capture_ns.store(stamper_.capture_of(GST_BUFFER_PTS(buffer)),
                                             std::memory_order_relaxed);

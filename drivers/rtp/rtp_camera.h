@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "drivers/camera_link.h"
@@ -14,6 +15,8 @@
 #include "drivers/format_watch.h"
 #include "drivers/gst/pipeline_runner.h"
 #include "drivers/rtp/clock_offset_estimator.h"
+#include "drivers/rtp/frame_end_requester.h"
+#include "drivers/rtp/jitter_budget.h"
 #include "drivers/rtp/rtp_calibration_cache.h"
 #include "drivers/rtp/rtp_camera_stats.h"
 #include "drivers/rtp/rtp_frame_stamper.h"
@@ -109,7 +112,7 @@ class RtpCamera final : public CameraSource, public CameraLink {
   /// picture loss indications (key-frame requests) and NACKs. Not for the render thread.
   struct Feedback {
     uint64_t pli_sent = 0;
-    uint64_t nack_sent = 0;
+    uint64_t nack_sent = 0;  ///< rtpsession's, and those sent at once (rtp_camera_nack.cpp)
     uint64_t rtcp_received_from_sender = 0;  ///< sender reports seen (have-sr)
     /// Key frames this camera asked for itself when packets came back after a stall (each
     /// becomes an RTCP PLI); the depayloader asks on its own on every detected loss.
@@ -162,7 +165,16 @@ class RtpCamera final : public CameraSource, public CameraLink {
   void on_access_unit(GstBuffer* buffer);
   void on_rtcp_into_rtpbin(GstBuffer* buffer);
   void on_rtcp_from_sender(GstBuffer* buffer);
+  void set_feedback_target(GstBuffer* buffer, bool from_rtcp);
   void on_decoded(GstBuffer* buffer);
+  // Repair (rtp_camera_repair.cpp): each media packet and repair into rtpbin (after netsim),
+  // the jitter buffer's input, and the budget applied from the bus thread.
+  GstBuffer* on_media_into_rtpbin(GstBuffer* buffer);  // the buffer to pass on
+  void on_new_jitter_buffer(GstElement* jitter_buffer);
+  void apply_jitter_budget();
+  // Immediate NACK (rtp_camera_nack.cpp).
+  bool send_nack(uint32_t media_ssrc, uint16_t sequence);
+  void wire_immediate_nack(GstElement* rtx_receive);
   // udpsrc's arrival stamp of `buffer` on CLOCK_MONOTONIC (the pipeline clock), or now.
   int64_t arrival_ns(GstBuffer* buffer) const;
   // Reads the receive sockets' buffers and the kernel's drops into sockets_ (not the render
@@ -189,13 +201,21 @@ class RtpCamera final : public CameraSource, public CameraLink {
   RtpFrameStamper stamper_;
   RtpCalibrationCache calibrations_;
   ViewFeedbackSchedule view_;
-  std::string feedback_to_;  // RTCP source thread: where feedback goes now ("" none yet)
+  std::mutex feedback_mutex_;
+  std::string feedback_to_;  // feedback_mutex_: where feedback goes now ("" none yet)
+  std::atomic<bool> feedback_known_{false};
   // Set when a stalled camera that had shown video asked for a key frame; cleared by the next
   // published frame, so each outage asks once (more come from the depayloader on every loss).
   std::atomic<bool> key_frame_requested_{false};
   SpscRing<RtpFrameTiming, 1024> timings_;
   FormatWatch format_watch_;            // streaming thread; the station pops its events
   mutable ReceiveSocketWatch sockets_;  // measured from const stats() too: it locks itself
+  uint32_t last_arrived_rtp_time_ = 0;  // udpsrc's thread: the newest frame's, for frames_arrived
+  mutable std::mutex budget_mutex_;     // streaming thread adds, bus thread reads
+  JitterBudget budget_;
+  GstElement* jitter_buffer_ = nullptr;  // budget_mutex_: the stream's (ref held)
+  std::atomic<int> latency_ms_{0};       // applied to the jitter buffer now
+  std::shared_ptr<FrameEndRequester> frame_end_;
   // Last: destroyed first, so that its bus thread and probes never see a member gone.
   PipelineRunner pipeline_;
 };

@@ -16,14 +16,26 @@ namespace hd::drivers {
 // The RTCP source's output: RTCP feedback (receiver reports, NACK, PLI) and the view feedback go
 // back to where the sender's RTCP comes from.
 void RtpCamera::on_rtcp_from_sender(GstBuffer* buffer) {
+  set_feedback_target(buffer, true);
+}
+
+// Where feedback goes: the sender's RTCP source, or until its first report, the source of its
+// first accepted RTP packet (hybrid-remote sends both from one socket, RFC 4961; to a plain
+// sender's RTP port it is lost until its RTCP comes). Either thread: a mutex.
+void RtpCamera::set_feedback_target(GstBuffer* buffer, bool from_rtcp) {
+  if (!from_rtcp && feedback_known_.load(std::memory_order_acquire)) return;  // per packet: cheap
   GstNetAddressMeta* meta = gst_buffer_get_net_address_meta(buffer);
   if (meta == nullptr || !G_IS_INET_SOCKET_ADDRESS(meta->addr)) return;
   GInetSocketAddress* a = G_INET_SOCKET_ADDRESS(meta->addr);
   const GCharPtr host(g_inet_address_to_string(g_inet_socket_address_get_address(a)));
   const int port = g_inet_socket_address_get_port(a);
   const std::string where = std::string(host.get()) + ":" + std::to_string(port);
-  if (where == feedback_to_) return;
-  feedback_to_ = where;  // a new sender (or the first): feedback goes there now
+  {
+    std::lock_guard lock(feedback_mutex_);
+    if (where == feedback_to_ || (!from_rtcp && !feedback_to_.empty())) return;
+    feedback_to_ = where;  // a new sender (or the first): feedback goes there now
+    feedback_known_.store(true, std::memory_order_release);
+  }
   if (const GstElementPtr sink = pipeline_.find(rtp_elements::kRtcpSink)) {
     g_signal_emit_by_name(sink.get(), "clear");
     g_signal_emit_by_name(sink.get(), "add", host.get(), port);
@@ -64,6 +76,7 @@ RtpCamera::Feedback RtpCamera::feedback() const {
   Feedback f;
   f.key_frame_requests = counters_.key_frame_requests.load(std::memory_order_relaxed);
   f.view_feedback_sent = view_.sent();
+  f.nack_sent = counters_.nacks_sent_at_once.load(std::memory_order_relaxed);
   if (const GstElementPtr rtx = pipeline_.find(rtp_elements::kRtxReceive)) {
     guint requests = 0, packets = 0;
     g_object_get(rtx.get(), "num-rtx-requests", &requests, "num-rtx-packets", &packets, nullptr);

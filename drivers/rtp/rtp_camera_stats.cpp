@@ -37,6 +37,9 @@ RtpCameraStats RtpCameraCounters::snapshot(bool srtp) const {
   s.packets_depayloaded = packets_depayloaded.load(relaxed);
   s.frames_decoded = frames_decoded.load(relaxed);
   s.frames_converted = frames_converted.load(relaxed);
+  s.frames_arrived = frames_arrived.load(relaxed);
+  s.jitter_lost = jitter_lost.load(relaxed);
+  s.access_units = access_units.load(relaxed);
   return s;
 }
 

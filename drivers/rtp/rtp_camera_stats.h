@@ -86,6 +86,22 @@ struct RtpCameraStats {
   ///   before the next can come); then not_newer, wrong_format and calibration_size_mismatch
   ///   are not published.
   uint64_t packets_depayloaded = 0, frames_decoded = 0, frames_converted = 0;
+  /// Frames that reached this host: new RTP times among the stream's packets off the socket
+  /// (before any fault injection). frames_published / frames_arrived is the share shown.
+  uint64_t frames_arrived = 0;
+  /// Repair: the jitter buffer's latency now and the budget it follows (jitter_budget.h), ms;
+  /// requests for a frame's missing last packet (frame_end_watch.h).
+  int jitter_buffer_latency_ms = 0;
+  double transit_spread_ms = 0.0;
+  double repair_spread_ms = 0.0;
+  double repair_round_trip_ms = 0.0;
+  uint64_t frame_end_requests = 0;
+  /// Packets the jitter buffer gave up on (its GstRTPPacketLost events, do-lost): each one a
+  /// frame not shown, and the frames after it up to the next key frame.
+  uint64_t jitter_lost = 0;
+  /// Access units out of the depayloader (frames whole enough to decode; after a loss it drops
+  /// the frames up to the next key frame, which it asks for).
+  uint64_t access_units = 0;
 };
 
 /// The counts RtpCamera's threads keep (each counter written by one thread, read by any:
@@ -109,6 +125,8 @@ struct RtpCameraCounters {
   std::atomic<uint64_t> sender_reports{0};
   std::atomic<uint64_t> jitter_too_late{0}, jitter_over_latency{0};
   std::atomic<uint64_t> packets_depayloaded{0}, frames_decoded{0}, frames_converted{0};
+  std::atomic<uint64_t> frames_arrived{0}, jitter_lost{0}, access_units{0};
+  std::atomic<uint64_t> nacks_sent_at_once{0};
 
   void count(RtpPacketError e) {
     malformed[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);

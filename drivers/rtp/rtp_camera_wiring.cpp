@@ -37,7 +37,11 @@ GstBusSyncReply count_jitter_drops(GstBus*, GstMessage* m, gpointer data) {
 }  // namespace
 
 void RtpCamera::wire(PipelineRunner& p) {
-  feedback_to_.clear();  // a new pipeline's multiudpsink has no destination yet
+  {  // a new pipeline's multiudpsink has no destination yet
+    std::lock_guard lock(feedback_mutex_);
+    feedback_to_.clear();
+    feedback_known_.store(false, std::memory_order_release);
+  }
   const GstElementPtr rtpbin = p.element(rtp_elements::kRtpBin);
   g_signal_connect(rtpbin.get(), "new-jitterbuffer",
                    G_CALLBACK(+[](GstElement*, GstElement* jb, guint, guint, gpointer self) {
@@ -45,6 +49,7 @@ void RtpCamera::wire(PipelineRunner& p) {
                      // longer interval would sum them, and the last sum would wait for a drop.
                      g_object_set(jb, "post-drop-messages", TRUE, "drop-messages-interval", 0u,
                                   nullptr);
+                     camera(self).on_new_jitter_buffer(jb);
                      const RtpReceiveConfig& c = camera(self).config_;
                      if (!c.retransmission) return;
                      // No timer for "the next packet is due": it is due one packet spacing
@@ -85,12 +90,22 @@ void RtpCamera::wire(PipelineRunner& p) {
   const gboolean linked =
       gst_element_link_pads(last.get(), from.pad, rtpbin.get(), "recv_rtp_sink_0");
   // The pipeline keeps the RTX receiver; feedback() looks it up by name.
-  const bool rtx_ok = !config_.retransmission || p.find(rtp_elements::kRtxReceive) != nullptr;
+  const GstElementPtr rtx_receive = p.find(rtp_elements::kRtxReceive);
+  const bool rtx_ok = !config_.retransmission || rtx_receive != nullptr;
+  if (rtx_receive) wire_immediate_nack(rtx_receive.get());
   if (!linked || !rtx_ok) {
     throw DeviceError("camera " + id() + ": cannot link the receive pipeline to rtpbin" +
                       (config_.retransmission ? " (with its RTX aux receiver)" : ""));
   }
 
+  p.probe(
+      rtp_elements::kRtpBin, "recv_rtp_sink_0",
+      [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+        GST_PAD_PROBE_INFO_DATA(info) =
+            camera(self).on_media_into_rtpbin(GST_PAD_PROBE_INFO_BUFFER(info));
+        return GST_PAD_PROBE_OK;
+      },
+      this);
   p.probe(
       rtp_elements::kRtpSource, "src",
       [](GstPad*, GstPadProbeInfo* info, gpointer self) {
@@ -141,6 +156,16 @@ void RtpCamera::wire(PipelineRunner& p) {
         return GST_PAD_PROBE_OK;
       },
       this);
+  p.probe(  // the packets the jitter buffer gave up on (do-lost): counted
+      rtp_elements::kDepayloader, "sink",
+      [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+        const GstEvent* e = GST_PAD_PROBE_INFO_EVENT(info);
+        if (GST_EVENT_TYPE(e) == GST_EVENT_CUSTOM_DOWNSTREAM &&
+            gst_event_has_name(const_cast<GstEvent*>(e), "GstRTPPacketLost"))
+          camera(self).counters_.jitter_lost.fetch_add(1, std::memory_order_relaxed);
+        return GST_PAD_PROBE_OK;
+      },
+      this, GST_PAD_PROBE_TYPE_EVENT_DOWNSTREAM);
   p.probe(
       rtp_elements::kDepayloader, "src",
       [](GstPad*, GstPadProbeInfo* info, gpointer self) {

@@ -74,6 +74,14 @@ RtpCameraStats RtpCamera::stats() const {
   s.rtp_buffer = sockets.rtp;
   s.rtcp_buffer = sockets.rtcp;
   s.kernel_drops = sockets.kernel_drops;
+  s.jitter_buffer_latency_ms = latency_ms_.load(std::memory_order_relaxed);
+  s.frame_end_requests = frame_end_->requests();
+  {
+    std::lock_guard lock(budget_mutex_);
+    s.transit_spread_ms = double(budget_.spread_ns()) * 1e-6;
+    s.repair_spread_ms = double(budget_.repair_spread_ns()) * 1e-6;
+    s.repair_round_trip_ms = double(budget_.round_trip_ns()) * 1e-6;
+  }
   return s;
 }
 

@@ -13,11 +13,24 @@ namespace hd::drivers {
 /// Everything the receive pipeline is built from (rtp_receive_pipeline.h turns it into a
 /// GStreamer description). Times in ms where GStreamer takes ms.
 struct RtpReceiveConfig {
-  RtpAddress listen;                  ///< RTP on listen.port, RTCP on listen.port + 1
-  int jitter_buffer_latency_ms = 20;  ///< rtpbin latency: small, video is only useful when fresh
-  bool retransmission = true;         ///< NACK (RTCP feedback) and RTX (RFC 4588) through rtpbin
-  int payload_type = 96;              ///< the H.264 payload type (rtph264pay's default)
-  int rtx_payload_type = 97;          ///< RTX payload type for `payload_type`
+  RtpAddress listen;  ///< RTP on listen.port, RTCP on listen.port + 1
+  /// rtpbin latency, ms: small, video is only useful when fresh. With jitter_buffer_auto, the
+  /// least the measured budget may set.
+  int jitter_buffer_latency_ms = 20;
+  /// Size the jitter buffer from the link as measured (drivers/rtp/jitter_budget.h: the spread
+  /// of packet transit times and the retransmission round trip), between
+  /// jitter_buffer_latency_ms and jitter_buffer_max_ms, starting at jitter_buffer_start_ms until
+  /// 1 s of packets was seen. Off: jitter_buffer_latency_ms throughout.
+  bool jitter_buffer_auto = true;
+  int jitter_buffer_start_ms = 100;
+  int jitter_buffer_max_ms = 200;
+  /// Ask for a frame's missing last packet once its burst ended without the marker bit (after the
+  /// measured reorder, at least 3 ms: drivers/rtp/frame_end_watch.h), instead of when the next
+  /// frame shows the gap. Needs retransmission.
+  bool frame_end_requests = true;
+  bool retransmission = true;  ///< NACK (RTCP feedback) and RTX (RFC 4588) through rtpbin
+  int payload_type = 96;       ///< the H.264 payload type (rtph264pay's default)
+  int rtx_payload_type = 97;   ///< RTX payload type for `payload_type`
   /// The RTCP bandwidth of the station's session, bytes/s (rtpsession rtcp-fraction; the
   /// default assumes a 64 kbit/s session, i.e. a receiver report every ~0.5 s). RFC 4585
   /// allows one early feedback packet per regular interval, so a NACK waits up to one interval:
@@ -58,6 +71,9 @@ struct RtpReceiveConfig {
   double netsim_drop_probability = 0.0;
   int netsim_min_delay_ms = 0;
   int netsim_max_delay_ms = 0;
+  /// A packet delayed less may overtake one delayed more (netsim allow-reordering); off, the
+  /// delays vary as a queue's do, in order.
+  bool netsim_reorder = false;
   /// With a key the stream must be SRTP (AES-128-GCM, media and RTCP): every packet that fails
   /// authentication (a wrong key, or a sender without encryption) is dropped and counted.
   std::optional<SrtpKey> srtp_key;
@@ -71,9 +87,12 @@ struct RtpReceiveConfig {
   Clock clock = Clock::kMeasured;
   int64_t clock_error_ns = 1'000'000;
   double clock_drift_ppm = 100.0;  ///< allowed drift between the two clocks (measured mode)
-  /// This station's RTCP receiver reports at least this often (rtpsession rtcp-min-interval):
-  /// each gives the sender a round trip, which the clock estimate needs.
-  int rtcp_interval_ms = 1000;
+  /// The shortest interval between this station's regular RTCP reports (rtpsession
+  /// rtcp-min-interval; RFC 3550's Tmin, 5 s by default): each gives the sender a round trip,
+  /// which the clock estimate needs, and lets one early feedback packet (a PLI) go. The RTCP
+  /// bandwidth sets the interval above it: 50-80 ms measured. NACKs leave at once regardless
+  /// (rtp_camera_nack.cpp).
+  int rtcp_interval_ms = 20;
   bool netsim() const {
     return netsim_always || netsim_drop_probability > 0.0 || netsim_max_delay_ms > 0 ||
            netsim_min_delay_ms > 0;

@@ -1,5 +1,6 @@
 #include "drivers/rtp/rtp_receive_pipeline.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "drivers/rtp/srtp_elements.h"
@@ -15,19 +16,29 @@ std::string buffer_size(int bytes) {
 
 }  // namespace
 
+int initial_latency_ms(const RtpReceiveConfig& c) {
+  if (!c.jitter_buffer_auto) return c.jitter_buffer_latency_ms;
+  return std::clamp(c.jitter_buffer_start_ms, c.jitter_buffer_latency_ms,
+                    std::max(c.jitter_buffer_latency_ms, c.jitter_buffer_max_ms));
+}
+
 std::string receive_pipeline_description(const RtpReceiveConfig& c) {
   using namespace rtp_elements;
   const std::string host = c.listen.host, port = std::to_string(c.listen.port),
                     rtcp_port = std::to_string(c.listen.port + 1);
   std::string d;
-  d += std::string("rtpbin name=") + kRtpBin +
-       " latency=" + std::to_string(c.jitter_buffer_latency_ms) +
+  d += std::string("rtpbin name=") + kRtpBin + " latency=" + std::to_string(initial_latency_ms(c)) +
        " do-retransmission=" + (c.retransmission ? "true" : "false") +
+       // A packet given up on is a GstRTPPacketLost event: the depayloader asks for a key frame
+       // at once (PLI) instead of waiting for the next one.
+       " do-lost=true" +
        // AVPF (RFC 4585): NACK and PLI leave as early feedback, not at the next regular report.
        " rtp-profile=avpf ";
-  // A frame buffered past its deadline is of no use: the jitter buffer does not grow beyond
-  // the latency.
-  d += "drop-on-latency=true ";
+  // No drop-on-latency: it drops the oldest packet whenever the RTP times held span the
+  // latency, i.e. at a latency of a frame period or more (which the measured budget often is)
+  // the packets of a frame still inside its deadline. The jitter buffer holds no more than its
+  // latency anyway: it never waits for the decoder, which runs behind the queue.
+  d += "drop-on-latency=false ";
   d += std::string("udpsrc name=") + kRtpSource + " address=" + host + " port=" + port +
        " reuse=false" + buffer_size(c.receive_buffer_bytes) + " caps=\"application/x-" +
        (c.srtp_key ? "srtp" : "rtp") + ",media=video,clock-rate=90000,encoding-name=H264,payload=" +
@@ -43,7 +54,12 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
     std::snprintf(p, sizeof p, "%.6f", c.netsim_drop_probability);
     d += std::string("! netsim name=") + kNetsim + " drop-probability=" + p +
          " min-delay=" + std::to_string(c.netsim_min_delay_ms) +
-         " max-delay=" + std::to_string(c.netsim_max_delay_ms) + " delay-distribution=uniform ";
+         " max-delay=" + std::to_string(c.netsim_max_delay_ms) +
+         // netsim delays a packet only with delay-probability (default 0: none at all).
+         " delay-probability=" + (c.netsim_max_delay_ms > 0 ? "1.0" : "0.0") +
+         // Jitter as a queue's: its delay varies, its order does not (netsim_reorder: it may).
+         " allow-reordering=" + (c.netsim_reorder ? "true" : "false") +
+         " delay-distribution=uniform ";
   }
   // The media chain's last element is linked to rtpbin.recv_rtp_sink_0 by the camera once it
   // can answer request-aux-receiver (receive_media_link).

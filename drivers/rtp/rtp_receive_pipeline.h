@@ -36,6 +36,9 @@ inline constexpr const char* kRtxReceive = "rtxreceive";
 /// receive_media_link() to rtpbin.recv_rtp_sink_0 after connecting its request-aux-receiver
 /// handler, which rtpbin calls when that pad is requested (so it cannot be in the description).
 std::string receive_pipeline_description(const RtpReceiveConfig& c);
+/// The jitter buffer's latency when the pipeline starts, ms (the measured budget's start value
+/// with jitter_buffer_auto, else jitter_buffer_latency_ms).
+int initial_latency_ms(const RtpReceiveConfig& c);
 
 /// The part after rtpbin, as receive_pipeline_description() builds it: the depayloader
 /// (rtph264depay, named kDepayloader) and the decoder to RGBA (avdec_h264 named kDecoder →

@@ -42,7 +42,8 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
   if (c.srtp_key) d += "srtpenc name=" + enc + " " + drivers::kSrtpEncoderCiphers + " ";
   d += std::string(kRtpBin) + ".send_rtp_src_0 ! " +
        (c.srtp_key ? enc + ".rtp_sink_0 " + enc + ".rtp_src_0 ! " : std::string()) +
-       "udpsink host=" + c.host + " port=" + std::to_string(c.port) + " sync=false async=false ";
+       "udpsink name=" + kRtpOut + " host=" + c.host + " port=" + std::to_string(c.port) +
+       " sync=false async=false ";
   d += std::string(kRtpBin) + ".send_rtcp_src_0 ! " +
        (c.srtp_key ? enc + ".rtcp_sink_0 " + enc + ".rtcp_src_0 ! " : std::string()) +
        "udpsink name=" + kRtcpOut + " host=" + c.host + " port=" + std::to_string(c.port + 1) +

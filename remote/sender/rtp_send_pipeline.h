@@ -15,6 +15,7 @@ inline constexpr const char* kPayloader = "pay";
 inline constexpr const char* kRtpBin = "rtpbin";
 inline constexpr const char* kSrtpEncoder = "srtpenc";
 inline constexpr const char* kRtcpOut = "rtcp_out";
+inline constexpr const char* kRtpOut = "rtp_out";
 inline constexpr const char* kRtcpIn = "rtcp_in";
 inline constexpr const char* kSrtcpDecoder = "srtcpdec";  ///< the station's RTCP, with a key
 inline constexpr const char* kRtxSend = "rtxsend";

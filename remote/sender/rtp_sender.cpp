@@ -103,14 +103,18 @@ void RtpSender::start() {
       drivers::answer_srtp_key_requests(dec, *config_.srtp_key);
       gst_object_unref(dec);
     }
-    {  // one socket for RTCP out and in (the station answers to where our RTCP came from)
+    {  // one socket for RTP out and RTCP out and in: the station answers to where our RTP and
+       // RTCP come from, so it can ask for a lost packet from the first packet on, not only
+       // after our first sender report (symmetric RTP, RFC 4961)
       GstElement* in = by_name(pipeline_, send_elements::kRtcpIn);
       GstElement* out = by_name(pipeline_, send_elements::kRtcpOut);
+      GstElement* rtp_out = by_name(pipeline_, send_elements::kRtpOut);
       gst_element_set_state(in, GST_STATE_READY);
       GSocket* socket = nullptr;
       g_object_get(in, "used-socket", &socket, nullptr);
       if (socket != nullptr) {
         g_object_set(out, "socket", socket, "close-socket", FALSE, nullptr);
+        g_object_set(rtp_out, "socket", socket, "close-socket", FALSE, nullptr);
         if (GSocketAddress* local = g_socket_get_local_address(socket, nullptr)) {
           rtcp_port_ = g_inet_socket_address_get_port(G_INET_SOCKET_ADDRESS(local));
           g_object_unref(local);
@@ -130,6 +134,7 @@ void RtpSender::start() {
       gst_object_unref(in_src);
       gst_object_unref(in);
       gst_object_unref(out);
+      gst_object_unref(rtp_out);
     }
     GstElement* rtpbin = by_name(pipeline_, send_elements::kRtpBin);
     {  // sender reports often enough for the station's clock estimate
