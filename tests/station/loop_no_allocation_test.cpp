@@ -73,7 +73,14 @@ TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
   EXPECT_EQ(hd::core::counted_allocations(), 0u) << hud;
   // The loop really ran the pipeline: frames drawn, poses consumed, video fetched.
   EXPECT_EQ(frame.rows().size(), 330u);
-  EXPECT_EQ(compositor.stats().frames_drawn, 660u);  // two eyes per frame
+  // Two eyes per frame, none refused: a request the compositor rejects (request_check.h) is
+  // counted, not drawn. An ASan build of 2026-11-22 02:48 once saw frames_drawn 0 here; it never
+  // reproduced at any commit (docs/video-and-model.md), so a repeat must say which count it was.
+  EXPECT_EQ(compositor.stats().requests_rejected, 0u);
+  EXPECT_EQ(compositor.stats().video_frames_rejected, 0u);
+  EXPECT_EQ(compositor.stats().frames_drawn, 660u)
+      << "rejected " << compositor.stats().requests_rejected << ", video frames rejected "
+      << compositor.stats().video_frames_rejected;
   EXPECT_GT(frame.pose_history().accepted(), 100u);
   EXPECT_GT(frame.frames_fetched()[0], 20u);
   EXPECT_EQ(latency.total_recorded(), 330u);

@@ -3,14 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <chrono>
 #include <mutex>
 #include <set>
-#include <thread>
 #include <vector>
 
 #include "render/loop/stepped_clock.h"
 #include "station/model/model_updater.h"
+#include "test_wait.h"
 
 namespace hd::station {
 namespace {
@@ -74,7 +73,8 @@ TEST(ModelUpdater, PublishesOnThePeriodGridAfterTheDelayWithObjectsAtCaptureTime
   EXPECT_EQ(updater.models().latest().capture_oldest_ns, 0);
 
   updater.start();
-  while (updater.stats().updates < 6) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  // The fake clock runs as fast as the updater thread does; this only waits for that thread.
+  ASSERT_TRUE(eventually([&] { return updater.stats().updates >= 6; }));
   updater.stop();
   const ModelUpdaterStats st = updater.stats();
   ASSERT_GE(st.updates, 6u);
@@ -123,7 +123,7 @@ TEST(ModelUpdater, LateUpdatesSkipPeriodsAndTheOldestFrameSetsTheAge) {
   cfg.delay_s = 0.25;  // longer than the period: two grid slots pass during every update
   ModelUpdater updater(plane_scene(), cams, cfg, clock);
   updater.start();
-  while (updater.stats().updates < 4) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_TRUE(eventually([&] { return updater.stats().updates >= 4; }));
   updater.stop();
   const ModelUpdaterStats st = updater.stats();
   // Update i runs from t0 + 3 i periods to 0.25 s later; slots 3i+1 and 3i+2 are skipped.
@@ -204,19 +204,14 @@ TEST(ModelUpdater, RealClockDelayIsAtLeastTheConfiguredOne) {
   ModelUpdater updater(plane_scene(), cams, cfg, clock);
   updater.start();
   std::vector<ModelSnapshot> seen;
-  while (seen.size() < 3) {
+  ASSERT_TRUE(eventually([&] {
     if (updater.models().fetch()) seen.push_back(updater.models().latest());
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  const auto t0 = std::chrono::steady_clock::now();
+    return seen.size() >= 3;
+  }));
   updater.stop();
-  const double stop_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  // A lower bound only: a loaded machine makes the delay longer, never shorter.
   for (const ModelSnapshot& s : seen) EXPECT_GE(s.published_ns - s.taken_ns, 20'000'000);
   for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GT(seen[i].update, seen[i - 1].update);
-  RecordProperty("delay_ms",
-                 std::to_string((seen.back().published_ns - seen.back().taken_ns) * 1e-6));
-  RecordProperty("stop_ms", std::to_string(stop_ms));
 }
 
 TEST(ModelUpdater, RejectsBadPeriodsAndDelays) {

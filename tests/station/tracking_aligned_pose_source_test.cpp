@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <thread>
@@ -13,6 +12,7 @@
 #include "core/allocation_counter.h"
 #include "drivers/mock/mock_pose_source.h"
 #include "station/tracking/aligned_pose_source.h"
+#include "test_wait.h"
 
 namespace {
 
@@ -170,14 +170,6 @@ TEST(TrackingAlignedPoseSource, BadConfigurationIsRefused) {
   EXPECT_THROW(AlignedPoseSource(inner, c), std::invalid_argument);
 }
 
-// Waits (bounded, not a timing assertion) until `done` holds.
-template <class F>
-bool wait_for(F done) {
-  for (int i = 0; i < 5000 && !done(); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  return done();
-}
-
 TEST(TrackingAlignedPoseSource, ThreadedOverMockTrackerRecentresOnRequest) {
   // A still head at tracker (0.4, 0, 0.2), turned 0.6 rad about the tracker's y, tilted 0.2 rad.
   const Eigen::Quaterniond q(rot(0.6, Eigen::Vector3d::UnitY()) *
@@ -194,12 +186,12 @@ TEST(TrackingAlignedPoseSource, ThreadedOverMockTrackerRecentresOnRequest) {
   const Pose home{Eigen::Matrix3d::Identity(), {0.0, -0.3, 0.6}};
   AlignedPoseSource src(mock, config(Pose::identity(), home));
   src.start();
-  ASSERT_TRUE(wait_for([&] { return src.samples() >= 5; }));
+  ASSERT_TRUE(eventually([&] { return src.samples() >= 5; }));
   std::thread key([&] { src.request_recentre(); });
   key.join();
-  ASSERT_TRUE(wait_for([&] { return src.recentres() == 1; }));
+  ASSERT_TRUE(eventually([&] { return src.recentres() == 1; }));
   const uint64_t after = src.samples();
-  ASSERT_TRUE(wait_for([&] { return src.samples() >= after + 3; }));
+  ASSERT_TRUE(eventually([&] { return src.samples() >= after + 3; }));
   src.stop();
   ASSERT_TRUE(src.latest().fetch());
   const PoseSample& s = src.latest().latest();

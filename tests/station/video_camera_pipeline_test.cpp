@@ -184,7 +184,9 @@ TEST(VideoCameraPipeline, AFrameOfAnotherSizeMakesTheCameraUnusableUntilTheRight
   EXPECT_EQ(drivers::read_test_pattern_sequence(pipe.frames().latest()), 4u);
 }
 
-TEST(VideoCameraPipeline, ThreadForwardsAMockCameraAndStopsPromptly) {
+// stop() returns and leaves the source closed. How long it takes is not asserted (it was named
+// "...StopsPromptly" and only recorded the time): a loaded machine stretches any such figure.
+TEST(VideoCameraPipeline, ThreadForwardsAMockCameraAndStops) {
   drivers::MockCameraConfig mc;
   mc.id = "mock-pipe";
   mc.width = 64;
@@ -208,12 +210,8 @@ TEST(VideoCameraPipeline, ThreadForwardsAMockCameraAndStopsPromptly) {
   EXPECT_EQ(got, 20);
   EXPECT_EQ(pipe.id(), "mock-pipe");
   EXPECT_EQ(pipe.state(), drivers::SourceState::kStreaming);
-  const auto t0 = std::chrono::steady_clock::now();
   pipe.stop();
-  const double stop_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(pipe.state(), drivers::SourceState::kClosed);
-  RecordProperty("stop_ms", std::to_string(stop_ms));
   EXPECT_GE(pipe.processed(), 20u);
   EXPECT_GE(pipe.model_published(), 1u);
 }

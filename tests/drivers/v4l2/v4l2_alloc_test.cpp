@@ -6,14 +6,13 @@
 #include <turbojpeg.h>
 
 #include <atomic>
-#include <chrono>
 #include <cstdlib>
 #include <new>
-#include <thread>
 
 #include "core/allocation_counter.h"
 #include "drivers/v4l2/v4l2_camera.h"
 #include "fake_v4l2_device.h"
+#include "test_wait.h"
 
 namespace hd::drivers {
 namespace {
@@ -21,11 +20,10 @@ namespace {
 // Every operator new in this program counts (hd_allocation_counter).
 const bool kCountingEverywhere = (core::count_allocations_on_all_threads(true), true);
 
+// Waits for the capture thread (eventually's 60 s bounds a hang only; the caller asserts the
+// count).
 void wait_for_frames(Mailbox<Frame>& mb, uint64_t n) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (mb.published() < n && std::chrono::steady_clock::now() < end) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
+  eventually([&] { return mb.published() >= n; });
 }
 
 uint64_t allocations_while_streaming(testing::FakeV4l2Config cfg, int w, int h) {

@@ -3,10 +3,10 @@
 // 160x120 mock camera at the world origin, a 500 Hz mock head, stereo 160x120 eyes and a
 // transition band (m_t 8, eps 3, no lag) that the tests' head motions cross.
 
+#include <gtest/gtest.h>
+
 #include <Eigen/Geometry>
-#include <chrono>
 #include <cstddef>
-#include <thread>
 #include <utility>
 
 #include "drivers/camera_source.h"
@@ -15,6 +15,7 @@
 #include "drivers/pose_source.h"
 #include "render/compositor/synthetic_scene.h"
 #include "station/frame/station_frame.h"
+#include "test_wait.h"
 
 namespace hd::station::test {
 
@@ -77,9 +78,9 @@ inline render::SyntheticScene checker_quad_scene() {
 }
 
 /// Opens and starts a camera and a head for a test's scope; stops both when it ends, also when
-/// an assertion returns early. Returns once both have published their first frame and sample
-/// (or after 10 s), so a test's first tick never runs before the devices have spoken, however
-/// loaded the machine is.
+/// an assertion returns early. Returns once both have published their first frame and sample,
+/// so a test's first tick never runs before the devices have spoken, however loaded the machine
+/// is; if they stay silent (60 s, `eventually`'s bound on a hang) the test fails here, saying so.
 class StartedDevices {
  public:
   StartedDevices(drivers::CameraSource& camera, drivers::PoseSource& head)
@@ -88,9 +89,10 @@ class StartedDevices {
     head_.open();
     camera_.start();
     head_.start();
-    for (int i = 0; i < 10'000; ++i) {
-      if (camera_.frames().published() > 0 && head_.latest().published() > 0) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (!eventually(
+            [&] { return camera_.frames().published() > 0 && head_.latest().published() > 0; })) {
+      ADD_FAILURE() << "devices never spoke: camera published " << camera_.frames().published()
+                    << ", head " << head_.latest().published();
     }
   }
   ~StartedDevices() { stop(); }
