@@ -17,15 +17,15 @@ void FrameAccounting::reconnected() {
 
 void FrameAccounting::lost(uint64_t frame_id, int status) {
   // The frame is lost, but its id is known: feed it, so the next frame shows no gap and the loss
-  // is counted once.
-  unwrapper_.update(frame_id);
+  // is counted once; the ids skipped before it are gaps, as before an admitted frame.
+  count_gap(unwrapper_.update(frame_id));
   GigeCounters::bump(counters_.bad_buffers);
   if (!got_first_frame_) GigeCounters::bump(counters_.bad_before_first_frame);
   counters_.last_bad_status.store(status, std::memory_order_relaxed);
 }
 
 void FrameAccounting::wrong_format(uint64_t frame_id) {
-  unwrapper_.update(frame_id);
+  count_gap(unwrapper_.update(frame_id));
   GigeCounters::bump(counters_.wrong_format);
 }
 
@@ -41,8 +41,12 @@ std::optional<uint64_t> FrameAccounting::admit(uint64_t frame_id) {
                            : counters_.late_or_duplicate);
     return std::nullopt;
   }
-  GigeCounters::bump(counters_.id_gaps, id.gap);
+  count_gap(id);
   return id.sequence;
+}
+
+void FrameAccounting::count_gap(const FrameIdUnwrapper::Result& id) {
+  if (id.verdict == FrameIdUnwrapper::Verdict::kNext) GigeCounters::bump(counters_.id_gaps, id.gap);
 }
 
 uint64_t FrameAccounting::sequence_for(uint64_t camera_sequence) {

@@ -15,7 +15,8 @@ namespace hd::drivers {
 /// from sequence_for() and is counted by published().
 ///
 /// Ids of frames that were not published still feed the unwrapper (lost and wrong-format ones),
-/// so the next good frame shows no gap for them: each loss is counted once, in its own counter.
+/// so the next good frame shows no gap for them: each loss is counted once, in its own counter;
+/// ids skipped before any of them are gaps.
 ///
 /// The camera restarts its block ids when it is reopened, and stop()/start() restarts our
 /// unwrapper; the consumer's sequence must never move backwards, so the first frame after either
@@ -55,6 +56,9 @@ class FrameAccounting {
   uint64_t last_sequence() const { return last_sequence_; }
 
  private:
+  // The ids `id` skipped (the frames before it that never arrived) into id_gaps.
+  void count_gap(const FrameIdUnwrapper::Result& id);
+
   GigeCounters& counters_;
   FrameIdUnwrapper unwrapper_;
   bool got_first_frame_ = false;  // since the last start() or reconnected()

@@ -59,14 +59,39 @@ TEST(RemoteKeyFrame, APliFromTheStationMakesTheEncoderSendAnIdrBeforeItsPeriodic
 
   ASSERT_TRUE(eventually([&] { return cam.stats().frames_published >= 5; }));
   // The station's RTCP goes where the sender's comes from: it has somewhere to send a PLI once
-  // the sender's first report arrived (its RTCP interval, not the video, decides when).
-  ASSERT_TRUE(eventually([&] { return cam.stats().feedback_targets >= 1; }));
-  // Periodic IDRs are 600 frames apart, so every IDR after the first was asked for: on a loaded
-  // machine the station may already have asked on its own (a lost packet, a stall).
+  // the sender's first report arrived (its RTCP interval, not the video, decides when). Its PLIs
+  // before then went nowhere (its depayloader asks for a key frame as the stream begins): the
+  // count read while it still had no target (the target read after the count) bounds them.
+  uint64_t pli_lost = 0;
+  ASSERT_TRUE(eventually([&] {
+    const uint64_t pli = cam.feedback().pli_sent;
+    if (cam.stats().feedback_targets >= 1) return true;
+    pli_lost = pli;
+    return false;
+  }));
+  // A stretch of stream before the request long enough to show that the encoder makes no IDR of
+  // its own: 60 frames (2 s), counted as the sender encodes them.
+  ASSERT_TRUE(eventually([&] { return sender.stats().frames_encoded >= 60; }));
+  // Exactly one key frame before the request: the stream's first. Periodic IDRs are 600 frames
+  // apart, so any other was asked for, and only the station asks here: with no PLI from it since
+  // it could reach the sender, the sender made exactly one IDR. On a loaded machine the station
+  // may have asked on its own meanwhile (a lost packet, a stall); each such PLI adds at most one.
+  // (The PLI count is read after the sender's, so a PLI behind an IDR counted is in it.)
   const remote::RtpSenderStats before = sender.stats();
-  std::printf("IDRs before the request: %llu (the first, and %llu the station asked for itself)\n",
-              static_cast<unsigned long long>(before.key_frames),
-              static_cast<unsigned long long>(before.key_frames - 1));
+  const uint64_t pli_before = cam.feedback().pli_sent;
+  const uint64_t pli_reaching = pli_before - pli_lost;
+  std::printf(
+      "IDRs before the request: %llu sent (%llu decoded by the station); PLI from the station "
+      "before it: %llu, of them %llu after it knew where the sender is\n",
+      static_cast<unsigned long long>(before.key_frames),
+      static_cast<unsigned long long>(cam.stats().key_frames),
+      static_cast<unsigned long long>(pli_before), static_cast<unsigned long long>(pli_reaching));
+  if (pli_reaching == 0) {
+    EXPECT_EQ(before.key_frames, 1u) << "an IDR nobody asked for before the request";
+  } else {
+    EXPECT_GE(before.key_frames, 1u);
+    EXPECT_LE(before.key_frames, 1 + pli_reaching) << "more IDRs than the station asked for";
+  }
   ASSERT_TRUE(cam.request_key_frame());
   ASSERT_TRUE(eventually([&] { return sender.stats().key_frames > before.key_frames; }));
   const remote::RtpSenderStats after = sender.stats();

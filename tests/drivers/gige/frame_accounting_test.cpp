@@ -60,6 +60,23 @@ TEST(FrameAccounting, ALostFrameIsCountedOnceNotAlsoAsAGap) {
   EXPECT_EQ(c.dropped(), 1u);
 }
 
+TEST(FrameAccounting, IdsSkippedBeforeALostOrWrongFormatFrameAreGapsToo) {
+  // On a loaded machine the kernel can drop all of one frame's datagrams and part of the next's:
+  // the first is missing from the ids, the second a bad buffer.
+  GigeCounters c;
+  FrameAccounting a(c);
+  a.start();
+  publish(a, 10);
+  a.lost(12, kTimeout);  // 11 never arrived
+  a.wrong_format(15);    // 13 and 14 never arrived
+  EXPECT_EQ(publish(a, 16), 16u);
+  const GigeStats s = c.snapshot();
+  EXPECT_EQ(s.id_gaps, 3u);
+  EXPECT_EQ(s.bad_buffers, 1u);
+  EXPECT_EQ(s.wrong_format, 1u);
+  EXPECT_EQ(c.dropped(), 4u);  // bad buffers and gaps (a wrong-format frame is counted apart)
+}
+
 TEST(FrameAccounting, BadBuffersBeforeTheFirstFrameOfEachStartAreCountedApart) {
   GigeCounters c;
   FrameAccounting a(c);
