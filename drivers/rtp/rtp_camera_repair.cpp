@@ -85,7 +85,7 @@ void RtpCamera::on_new_jitter_buffer(GstElement* jitter_buffer) {
 void RtpCamera::apply_jitter_budget() {
   GstElement* jb = nullptr;
   int want = 0, rtt_ms = 0;
-  int64_t wait_ns = 0, frame_end_wait_ns = 0;
+  int64_t wait_ns = 0, frame_end_wait_ns = 0, burst_gap_ns = 0;
   {
     std::lock_guard lock(budget_mutex_);
     if (jitter_buffer_ == nullptr) return;
@@ -101,6 +101,7 @@ void RtpCamera::apply_jitter_budget() {
     want = config_.jitter_buffer_auto ? budget_.latency_ms() : config_.jitter_buffer_latency_ms;
     wait_ns = budget_.request_wait_ns();
     frame_end_wait_ns = budget_.frame_end_wait_ns();
+    burst_gap_ns = budget_.burst_gap_ns();
   }
   const int now_ms = latency_ms_.load(std::memory_order_relaxed);
   const int next = want >= now_ms ? want : std::max(want, now_ms - 5);
@@ -116,9 +117,13 @@ void RtpCamera::apply_jitter_budget() {
     // themselves up to the reorder early: 1.5 x reorder past that before asking.
     const int wait_ms = static_cast<int>((wait_ns * 3 / 2 + 999'999) / 1'000'000);
     const bool reorders = wait_ns > int64_t{config_.rtx_delay_ms} * 3'000'000;
-    // A repair that did not come is asked for again after the round trip and the repair's own
-    // reorder (GStreamer's automatic retry waits 40 ms until it has measured a round trip).
-    const int retry_ms = wait_ms + std::max(2, rtt_ms * 2) + 2;
+    // A repair that did not come is asked for again after the round trip, the repair's own
+    // jitter (as long as a burst may pause on this link) and the wait (GStreamer's automatic
+    // retry waits 40 ms until it has measured a round trip; asking again before the repair
+    // could have come only brings duplicates: measured 550 retransmissions for ~110 losses with
+    // a 50 ms jitter link before the burst pause was in it).
+    const int retry_ms =
+        wait_ms + std::max(2, rtt_ms * 2) + 2 + static_cast<int>(burst_gap_ns / 1'000'000);
     g_object_set(jb, "rtx-delay", reorders ? wait_ms : config_.rtx_delay_ms, "rtx-delay-reorder",
                  reorders ? 0 : config_.rtx_delay_reorder, "rtx-retry-timeout", retry_ms,
                  "rtx-min-retry-timeout", retry_ms, nullptr);
