@@ -122,7 +122,10 @@ int JitterBudget::latency_ms() const {
     const int64_t round_trip = round_trip_ns() > 0 ? round_trip_ns() : s_.round_trip_ms * kMs;
     const int64_t wait = std::max(w.reorder * 3 / 2, s_.request_wait_ms * kMs);
     const int64_t asked = spread + wait + round_trip;
-    need = std::max({need, asked, w.repaired ? w.repair_hi - w.lo : asked + spread});
+    // A repair may itself be lost: room for one more request, one round trip, wait and burst
+    // pause (the repair's own jitter) after the latest repair seen.
+    const int64_t repaired = w.repair_hi - w.lo + wait + round_trip + w.burst_gap;
+    need = std::max({need, asked, w.repaired ? repaired : asked + spread});
   }
   // The window saw at most its own worst: a quarter of the spread on top (a busy host's delays
   // grow in bursts), and the margin.

@@ -13,12 +13,13 @@
 //
 // The budget: a packet is due at the earliest transit plus the latency, so the latency covers the
 // latest packet still of use. Originals: their spread. With retransmission, a repair: its
-// original's lateness, then the wait before asking (1.5 x reorder: its neighbours may have come
-// early; at least request_wait_ms), the round
-// trip, and the repair's own jitter (reorder again), or the repairs' measured lateness (a
-// retransmission carries its original's RTP time) when larger. Plus a margin for what the window
-// has not seen yet. Clamped to [min_ms, max_ms]: min keeps an idle link's latency where it was;
-// max bounds what a broken link costs (older video is marked old anyway).
+// original's lateness, the wait before asking (1.5 x reorder, at least request_wait_ms) and the
+// round trip; and the repairs' own lateness: measured (a retransmission carries its original's
+// RTP time) once repairs came, with room for one more request should a repair be lost (the wait,
+// the round trip and the link's burst pause again); until then the originals' spread again. A
+// quarter of the spread and a margin on top, for what the window has not seen yet. Clamped to
+// [min_ms, max_ms]: min keeps an idle link's latency where it was; max bounds what a broken link
+// costs (older video is marked old anyway).
 //
 // The window: kBuckets buckets of kBucketNs (2 s), so the budget follows the link up within one
 // packet and down within 2 s.

@@ -61,15 +61,16 @@ TEST(JitterBudget, RetransmissionAddsTheWaitTheRoundTripAndTheRepairsOwnLateness
   // No repair seen: spread + wait + round trip, and the repair as late again: 40.9 + 3 + 2 +
   // 40.9 = 86.8, + 40.9 / 4 + 5 = 102.025 -> 103 ms
   EXPECT_EQ(b.latency_ms(), 103);
-  // A repair seen 60 ms after its frame's earliest transit: the measured lateness replaces the
-  // guess (max(40.9 + 5, 60) + 10.225 + 5 = 75.225 -> 76 ms).
+  // A repair seen 60 ms after its frame's earliest transit: the measured lateness, with room
+  // for one more request (wait 3, round trip 2, burst pause 0.1), replaces the guess:
+  // 60 + 5.1 = 65.1, + 10.225 + 5 = 80.325 -> 81 ms.
   b.add_packet(59 * kFrameTicks, 5, 59 * 100 * kMs / 3 + 60 * kMs, true);
   EXPECT_NEAR(double(b.repair_spread_ns()) / kMs, 60.0, 1e-6);
-  EXPECT_EQ(b.latency_ms(), 76);
-  // A 30 ms round trip: asking costs 40.9 + 3 + 30 = 73.9, more than the repair's 60:
-  // 73.9 + 10.225 + 5 = 89.125 -> 90 ms.
+  EXPECT_NEAR(double(b.burst_gap_ns()) / kMs, 0.1, 1e-6);
+  EXPECT_EQ(b.latency_ms(), 81);
+  // A 30 ms round trip: 60 + 3 + 30 + 0.1 = 93.1, + 15.225 = 108.325 -> 109 ms.
   b.set_round_trip(30 * kMs);
-  EXPECT_EQ(b.latency_ms(), 90);
+  EXPECT_EQ(b.latency_ms(), 109);
 }
 
 TEST(JitterBudget, IsClampedToTheMaximum) {
