@@ -32,7 +32,7 @@ class JitterBudget {
  public:
   struct Settings {
     int min_ms = 20;
-    int max_ms = 200;
+    int max_ms = 300;
     int start_ms = 100;  ///< until kWarmUpNs of packets were seen
     bool retransmission = true;
     int request_wait_ms = 3;  ///< the least wait before a gap is asked for

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "drivers/camera_link.h"
@@ -111,7 +112,7 @@ class RtpCamera final : public CameraSource, public CameraLink {
   /// RTCP feedback this station sent to the sender so far, from rtpbin's session statistics:
   /// picture loss indications (key-frame requests) and NACKs. Not for the render thread.
   struct Feedback {
-    uint64_t pli_sent = 0;
+    uint64_t pli_sent = 0;   ///< rtpsession's, and those sent at once (rtp_camera_nack.cpp)
     uint64_t nack_sent = 0;  ///< rtpsession's, and those sent at once (rtp_camera_nack.cpp)
     uint64_t rtcp_received_from_sender = 0;  ///< sender reports seen (have-sr)
     /// Key frames this camera asked for itself when packets came back after a stall (each
@@ -173,7 +174,8 @@ class RtpCamera final : public CameraSource, public CameraLink {
   void on_new_jitter_buffer(GstElement* jitter_buffer);
   void apply_jitter_budget();
   // Immediate NACK (rtp_camera_nack.cpp).
-  bool send_nack(uint32_t media_ssrc, uint16_t sequence);
+  bool send_feedback(uint32_t media_ssrc, std::optional<uint16_t> nack_sequence);  // else PLI
+  bool feedback_allowed(bool pli);  // the rate bounds
   void wire_immediate_nack(GstElement* rtx_receive);
   // udpsrc's arrival stamp of `buffer` on CLOCK_MONOTONIC (the pipeline clock), or now.
   int64_t arrival_ns(GstBuffer* buffer) const;
@@ -204,6 +206,9 @@ class RtpCamera final : public CameraSource, public CameraLink {
   std::mutex feedback_mutex_;
   std::string feedback_to_;  // feedback_mutex_: where feedback goes now ("" none yet)
   std::atomic<bool> feedback_known_{false};
+  double nack_tokens_ = 64.0;  // feedback_mutex_: immediate NACKs allowed now
+  int64_t nack_tokens_ns_ = 0, last_pli_ns_ = 0;
+  std::atomic<uint32_t> media_ssrc_{0};  // the stream's SSRC (for an immediate PLI)
   // Set when a stalled camera that had shown video asked for a key frame; cleared by the next
   // published frame, so each outage asks once (more come from the depayloader on every loss).
   std::atomic<bool> key_frame_requested_{false};

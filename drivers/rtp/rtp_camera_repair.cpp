@@ -35,6 +35,8 @@ GstBuffer* RtpCamera::on_media_into_rtpbin(GstBuffer* buffer) {
   }
   gst_buffer_unmap(buffer, &map);
   if (!media) return buffer;
+  if (view.payload_type == config_.payload_type)
+    media_ssrc_.store(view.ssrc, std::memory_order_relaxed);
   {
     std::lock_guard lock(budget_mutex_);
     budget_.add_packet(view.timestamp, sequence, now, view.payload_type != config_.payload_type);
@@ -117,16 +119,18 @@ void RtpCamera::apply_jitter_budget() {
     // themselves up to the reorder early: 1.5 x reorder past that before asking.
     const int wait_ms = static_cast<int>((wait_ns * 3 / 2 + 999'999) / 1'000'000);
     const bool reorders = wait_ns > int64_t{config_.rtx_delay_ms} * 3'000'000;
-    // A repair that did not come is asked for again after the round trip, the repair's own
-    // jitter (as long as a burst may pause on this link) and the wait (GStreamer's automatic
-    // retry waits 40 ms until it has measured a round trip; asking again before the repair
-    // could have come only brings duplicates: measured 550 retransmissions for ~110 losses with
-    // a 50 ms jitter link before the burst pause was in it).
+    // A repair that did not come is asked for again after the round trip (rtx-rtt: the
+    // jitter buffer's mean, the link's jitter in it), half the link's longest burst pause and
+    // the wait; asking before the repair could have come only brings duplicates (a 7 ms retry
+    // asked 5 times per loss on a 50 ms jitter link: +22 % bytes). Retries go on until the
+    // packet's deadline (rtx-retry-period, else GStreamer derives it from the latency minus
+    // one retry and gives a repair up early: measured, a 110 ms retry made it pts + 100 ms
+    // with a 188 ms latency).
     const int retry_ms =
-        wait_ms + std::max(2, rtt_ms * 2) + 2 + static_cast<int>(burst_gap_ns / 1'000'000);
+        wait_ms + std::max(2, rtt_ms) + 2 + static_cast<int>(burst_gap_ns / 2 / 1'000'000);
     g_object_set(jb, "rtx-delay", reorders ? wait_ms : config_.rtx_delay_ms, "rtx-delay-reorder",
                  reorders ? 0 : config_.rtx_delay_reorder, "rtx-retry-timeout", retry_ms,
-                 "rtx-min-retry-timeout", retry_ms, nullptr);
+                 "rtx-min-retry-timeout", retry_ms, "rtx-retry-period", next, nullptr);
     frame_end_->set_wait(frame_end_wait_ns);
   }
   gst_object_unref(jb);

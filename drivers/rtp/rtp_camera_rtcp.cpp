@@ -77,6 +77,7 @@ RtpCamera::Feedback RtpCamera::feedback() const {
   f.key_frame_requests = counters_.key_frame_requests.load(std::memory_order_relaxed);
   f.view_feedback_sent = view_.sent();
   f.nack_sent = counters_.nacks_sent_at_once.load(std::memory_order_relaxed);
+  f.pli_sent = counters_.plis_sent_at_once.load(std::memory_order_relaxed);
   if (const GstElementPtr rtx = pipeline_.find(rtp_elements::kRtxReceive)) {
     guint requests = 0, packets = 0;
     g_object_get(rtx.get(), "num-rtx-requests", &requests, "num-rtx-packets", &packets, nullptr);

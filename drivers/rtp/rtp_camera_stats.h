@@ -126,7 +126,7 @@ struct RtpCameraCounters {
   std::atomic<uint64_t> jitter_too_late{0}, jitter_over_latency{0};
   std::atomic<uint64_t> packets_depayloaded{0}, frames_decoded{0}, frames_converted{0};
   std::atomic<uint64_t> frames_arrived{0}, jitter_lost{0}, access_units{0};
-  std::atomic<uint64_t> nacks_sent_at_once{0};
+  std::atomic<uint64_t> nacks_sent_at_once{0}, plis_sent_at_once{0};
 
   void count(RtpPacketError e) {
     malformed[static_cast<std::size_t>(e)].fetch_add(1, std::memory_order_relaxed);

@@ -23,7 +23,7 @@ struct RtpReceiveConfig {
   /// 1 s of packets was seen. Off: jitter_buffer_latency_ms throughout.
   bool jitter_buffer_auto = true;
   int jitter_buffer_start_ms = 100;
-  int jitter_buffer_max_ms = 200;
+  int jitter_buffer_max_ms = 300;
   /// Ask for a frame's missing last packet once its burst ended without the marker bit (after the
   /// measured reorder, at least 3 ms: drivers/rtp/frame_end_watch.h), instead of when the next
   /// frame shows the gap. Needs retransmission.
