@@ -19,6 +19,9 @@ struct LinkReport {
   uint64_t not_newer = 0;         ///< decoded frames not newer than the last shown: dropped
   uint64_t bus_errors = 0;
   uint64_t pli_sent = 0, nack_sent = 0, rtx_received = 0;
+  /// Packets the jitter buffer gave up on: rebuilt from FEC, or lost (the frames up to the next
+  /// key frame with them).
+  uint64_t fec_recovered = 0, lost = 0;
   uint64_t view_feedback_sent = 0;  ///< view-need messages sent to the sender
   uint64_t calibration_errors = 0;  ///< calibration elements refused
   std::string last_error;           ///< the newest error's text ("" none)

@@ -85,8 +85,14 @@ FormatNegotiation RtpCamera::negotiate(const CameraFormatRequest& wanted) {
   n.detail =
       "RTP H.264 listening on " + config_.listen.host + ":" + std::to_string(config_.listen.port) +
       " (RTCP " + std::to_string(config_.listen.port + 1) + "), jitter buffer " +
-      std::to_string(config_.jitter_buffer_latency_ms) + " ms, NACK " +
-      (config_.retransmission ? "on" : "off") +
+      (config_.jitter_buffer_auto
+           ? "sized from the link, " + std::to_string(config_.jitter_buffer_latency_ms) + ".." +
+                 std::to_string(config_.jitter_buffer_max_ms)
+           : std::to_string(config_.jitter_buffer_latency_ms)) +
+      " ms, NACK " + (config_.retransmission ? "on" : "off") + ", ULP FEC " +
+      (config_.fec ? "rebuilt when the sender sends it (payload type " +
+                         std::to_string(config_.fec_payload_type) + ")"
+                   : std::string("refused")) +
       "; p_c from the station's calibration file for a plain sender, p_c and P_c from the "
       "stream when its sender sends them (hybrid-remote); capture time = arrival time for a "
       "plain RTP sender (it stamps none), the sender's ntp-64 stamp for hybrid-remote, " +
@@ -147,6 +153,12 @@ void RtpCamera::on_bus_turn() {
 // A retransmission carries the original sequence number before the original payload: checked
 // as H.264 from there (the two bytes read as a NAL header would refuse nearly every repair).
 RtpPacketError RtpCamera::check_payload(const RtpPacketView& view) const {
+  if (is_fec(view.payload_type)) {
+    // A 10-byte FEC header and a level header of at least 4 (RFC 5109 7.3, 7.4), after a
+    // repair's 2-byte original sequence number; rtpulpfecdec checks what they say.
+    const std::size_t least = view.payload_type == config_.fec_payload_type ? 14 : 16;
+    return view.payload.size() >= least ? RtpPacketError::kNone : RtpPacketError::kFecTooShort;
+  }
   return view.payload_type == config_.rtx_payload_type ? check_h264_rtx_payload(view.payload)
                                                        : check_h264_payload(view.payload);
 }
@@ -154,11 +166,14 @@ RtpPacketError RtpCamera::check_payload(const RtpPacketView& view) const {
 // One media SSRC at a time, with sequence numbers and RTP times its sender can send
 // (RtpStreamGuard); the arrival of each packet taken, for its frame's arrival time.
 RtpPacketError RtpCamera::check_stream(const RtpPacketView& view, GstBuffer* buffer) {
-  if (view.payload_type != config_.payload_type) return RtpPacketError::kNone;  // RTX
+  // FEC shares the media's SSRC and sequence numbers: the guard takes it too, but it is no
+  // frame of its own.
+  const bool fec = config_.fec && view.payload_type == config_.fec_payload_type;
+  if (view.payload_type != config_.payload_type && !fec) return RtpPacketError::kNone;  // RTX
   const int64_t arrival = arrival_ns(buffer);
   const RtpPacketError e = stream_guard_.check(view, arrival);
   counters_.sequence_resyncs.store(stream_guard_.resyncs(), std::memory_order_relaxed);
-  if (e == RtpPacketError::kNone) {
+  if (e == RtpPacketError::kNone && !fec) {
     stamper_.note_arrival(view.sequence, arrival);
     // A frame's packets share its RTP time and come together: a new time is a frame that
     // reached this host (counted before any fault injection; what was sent, for the shares).
@@ -189,7 +204,7 @@ GstPadProbeReturn RtpCamera::on_rtp_packet(GstBuffer* buffer) {
   RtpPacketView view;
   RtpPacketError e = parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view);
   if (e == RtpPacketError::kNone && view.payload_type != config_.payload_type &&
-      view.payload_type != config_.rtx_payload_type)
+      view.payload_type != config_.rtx_payload_type && !is_fec(view.payload_type))
     e = RtpPacketError::kOtherPayloadType;
   // With SRTP the payload is still encrypted here, and only authenticated packets may move the
   // stream guard: on_decrypted() checks both. Last, so that only packets otherwise passed on
@@ -268,7 +283,7 @@ void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
   }
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
   stamper_.add_packet(GST_CLOCK_TIME_IS_VALID(pts) ? std::optional<uint64_t>(pts) : std::nullopt,
-                      view.sequence, stamped ? &stamp : nullptr, now);
+                      wire_sequence(view.sequence), stamped ? &stamp : nullptr, now);
 }
 
 // The depayloader's output: access units, where key frames are not delta units.

@@ -4,6 +4,7 @@
 
 #include <gst/gst.h>
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -159,6 +160,10 @@ class RtpCamera final : public CameraSource, public CameraLink {
   void send_view_feedback();            // bus thread
   void on_sample(GstElement* sink);
   RtpPacketError check_payload(const RtpPacketView& view) const;
+  bool is_fec(int payload_type) const {  // a FEC packet, or its repair
+    return config_.fec && (payload_type == config_.fec_payload_type ||
+                           payload_type == config_.rtx_fec_payload_type);
+  }
   RtpPacketError check_stream(const RtpPacketView& view, GstBuffer* buffer);
   GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
   GstPadProbeReturn on_decrypted(GstBuffer* buffer);
@@ -177,6 +182,11 @@ class RtpCamera final : public CameraSource, public CameraLink {
   bool send_feedback(uint32_t media_ssrc, std::optional<uint16_t> nack_sequence);  // else PLI
   bool feedback_allowed(bool pli);  // the rate bounds
   void wire_immediate_nack(GstElement* rtx_receive);
+  // ULP FEC (rtp_camera_fec.cpp): the decoder rtpbin asks for, and the wire's sequence number of
+  // a packet the decoder renumbered.
+  void wire_fec(GstElement* rtpbin);
+  void wire_fec_decoder(GstElement* decoder);
+  uint16_t wire_sequence(uint16_t depayloader_sequence) const;
   // udpsrc's arrival stamp of `buffer` on CLOCK_MONOTONIC (the pipeline clock), or now.
   int64_t arrival_ns(GstBuffer* buffer) const;
   // Reads the receive sockets' buffers and the kernel's drops into sockets_ (not the render
@@ -221,6 +231,11 @@ class RtpCamera final : public CameraSource, public CameraLink {
   GstElement* jitter_buffer_ = nullptr;  // budget_mutex_: the stream's (ref held)
   std::atomic<int> latency_ms_{0};       // applied to the jitter buffer now
   std::shared_ptr<FrameEndRequester> frame_end_;
+  // The FEC decoder's probes (the jitter buffer's thread): the wire's number of the packet in
+  // it, whether it is rebuilding a lost one; and, by its number out, (wire << 16 | out).
+  uint16_t fec_wire_sequence_ = 0;
+  bool fec_rebuilding_ = false;
+  std::array<std::atomic<uint32_t>, 1024> fec_sequences_{};
   // Last: destroyed first, so that its bus thread and probes never see a member gone.
   PipelineRunner pipeline_;
 };

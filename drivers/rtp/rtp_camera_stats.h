@@ -99,6 +99,8 @@ struct RtpCameraStats {
   /// Packets the jitter buffer gave up on (its GstRTPPacketLost events, do-lost): each one a
   /// frame not shown, and the frames after it up to the next key frame.
   uint64_t jitter_lost = 0;
+  /// Of the packets the jitter buffer gave up on, those rebuilt from FEC (not in jitter_lost).
+  uint64_t fec_recovered = 0;
   /// Access units out of the depayloader (frames whole enough to decode; after a loss it drops
   /// the frames up to the next key frame, which it asks for).
   uint64_t access_units = 0;
@@ -125,7 +127,7 @@ struct RtpCameraCounters {
   std::atomic<uint64_t> sender_reports{0};
   std::atomic<uint64_t> jitter_too_late{0}, jitter_over_latency{0};
   std::atomic<uint64_t> packets_depayloaded{0}, frames_decoded{0}, frames_converted{0};
-  std::atomic<uint64_t> frames_arrived{0}, jitter_lost{0}, access_units{0};
+  std::atomic<uint64_t> frames_arrived{0}, jitter_lost{0}, access_units{0}, fec_recovered{0};
   std::atomic<uint64_t> nacks_sent_at_once{0}, plis_sent_at_once{0};
 
   void count(RtpPacketError e) {

@@ -85,6 +85,7 @@ void RtpCamera::wire(PipelineRunner& p) {
       g_object_set(session.get(), "rtcp-fraction",
                    static_cast<gdouble>(config_.rtcp_bandwidth_bytes_per_s), nullptr);
   }
+  wire_fec(rtpbin.get());
   const MediaLink from = receive_media_link(config_);
   const GstElementPtr last = p.element(from.element);
   const gboolean linked =

@@ -24,6 +24,8 @@ LinkReport RtpCamera::link_report() const {
   r.pli_sent = fb.pli_sent;
   r.nack_sent = fb.nack_sent;
   r.rtx_received = fb.rtx_received;
+  r.fec_recovered = st.fec_recovered;
+  r.lost = st.jitter_lost;
   r.view_feedback_sent = fb.view_feedback_sent;
   r.calibration_errors = st.calibration_errors_total;
   r.last_error = st.last_error;

@@ -81,6 +81,8 @@ std::string_view to_string(RtpPacketError e) {
       return "H.264 STAP-A sizes do not fill the packet";
     case RtpPacketError::kH264BadFragment:
       return "H.264 FU-A too short or both start and end";
+    case RtpPacketError::kFecTooShort:
+      return "ULP FEC packet shorter than its FEC and level headers";
     case RtpPacketError::kCount:
       break;
   }

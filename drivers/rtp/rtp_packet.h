@@ -31,6 +31,8 @@ enum class RtpPacketError : uint8_t {
   kH264BadType,       ///< NAL type 0, 30, 31 (undefined), or STAP-B, MTAP, FU-B (mode 1 has none)
   kH264BadAggregate,  ///< a STAP-A whose NAL unit sizes do not fill it exactly, or are 0
   kH264BadFragment,   ///< a FU-A shorter than 3 bytes, or with both start and end bits
+  // ULP FEC (RFC 5109), when the station takes it (RtpCamera::check_payload):
+  kFecTooShort,  ///< shorter than the FEC header and one level header (after an RTX's OSN)
   kCount
 };
 

@@ -31,6 +31,15 @@ struct RtpReceiveConfig {
   bool retransmission = true;  ///< NACK (RTCP feedback) and RTX (RFC 4588) through rtpbin
   int payload_type = 96;       ///< the H.264 payload type (rtph264pay's default)
   int rtx_payload_type = 97;   ///< RTX payload type for `payload_type`
+  /// ULP FEC from a sender that sends it (hybrid-remote --fec): behind the jitter buffer,
+  /// rtpulpfecdec rebuilds a packet the jitter buffer gives up on from its frame's FEC packets,
+  /// which rtpbin's rtpstorage keeps for as long as the jitter buffer may wait. A stream without
+  /// FEC passes unchanged. Off: FEC packets are refused as another payload type.
+  bool fec = true;
+  int fec_payload_type = 122;
+  /// The RTX payload type of a repaired FEC packet: a lost FEC packet is asked for like a media
+  /// one, since the jitter buffer cannot tell them apart and its loss would cost a key frame.
+  int rtx_fec_payload_type = 98;
   /// The RTCP bandwidth of the station's session, bytes/s (rtpsession rtcp-fraction; the
   /// default assumes a 64 kbit/s session, i.e. a receiver report every ~0.5 s). RFC 4585
   /// allows one early feedback packet per regular interval, so a NACK waits up to one interval:

@@ -104,9 +104,12 @@ MediaLink receive_media_link(const RtpReceiveConfig& c) {
 }
 
 std::string rtx_receive_description(const RtpReceiveConfig& c) {
+  std::string map = std::to_string(c.payload_type) + "=(uint)" + std::to_string(c.rtx_payload_type);
+  if (c.fec)
+    map += "," + std::to_string(c.fec_payload_type) + "=(uint)" +
+           std::to_string(c.rtx_fec_payload_type);
   return std::string("rtprtxreceive name=") + rtp_elements::kRtxReceive +
-         " payload-type-map=\"application/x-rtp-pt-map," + std::to_string(c.payload_type) +
-         "=(uint)" + std::to_string(c.rtx_payload_type) + "\"";  // original → RTX, as sent
+         " payload-type-map=\"application/x-rtp-pt-map," + map + "\"";  // original → RTX, as sent
 }
 
 }  // namespace hd::drivers

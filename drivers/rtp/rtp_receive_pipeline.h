@@ -22,6 +22,7 @@ inline constexpr const char* kSrtpDecoder = "srtpdec";
 inline constexpr const char* kSrtpEncoder = "srtpenc";  ///< the station's own RTCP
 inline constexpr const char* kNetsim = "netsim";
 inline constexpr const char* kRtxReceive = "rtxreceive";
+inline constexpr const char* kFecDecoder = "fecdec";  ///< inside rtpbin, behind the jitter buffer
 }  // namespace rtp_elements
 
 /// udpsrc (RTP; kernel buffer receive_buffer_bytes) [→ netsim] → rtpbin (jitter buffer,

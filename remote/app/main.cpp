@@ -71,6 +71,12 @@ int main(int argc, char** argv) {
   app.add_flag("--no-rtx", no_rtx,
                "answer no NACKs (no RTX, RFC 4588): a lost packet is then repaired only by the "
                "next key frame");
+  int fec_percentage = 0;
+  app.add_option("--fec", fec_percentage,
+                 "ULP FEC (RFC 5109, rtpulpfecenc): this many % more packets, from which the "
+                 "station rebuilds a lost packet without asking (0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100));
   bool full_rate = false;
   app.add_flag("--full-rate", full_rate,
                "ignore the station's view feedback and send every camera at full rate (by "
@@ -150,6 +156,7 @@ int main(int argc, char** argv) {
     c.T_world_cam = calibrated[i].T_world_real;
     c.srtp_key = key;
     c.retransmission = !no_rtx;
+    c.fec_percentage = fec_percentage;
     c.follow_view = !full_rate;
     std::unique_ptr<hd::remote::RtpSender> s;
     try {
@@ -162,7 +169,8 @@ int main(int argc, char** argv) {
     std::printf(
         "  camera %zu %-10s %dx%d at %g Hz -> rtp://%s:%d (RTCP %d): x264enc (software; "
         "zerolatency, ultrafast, no B-frames, key frame every %d frames, VBV %d ms = one frame, "
-        "%d kbit/s), rtph264pay, rtpbin (%s); per packet: ntp-64 capture time (CLOCK_REALTIME: the "
+        "%d kbit/s), rtph264pay, rtpbin (%s%s); per packet: ntp-64 capture time (CLOCK_REALTIME: "
+        "the "
         "station maps it exactly on one host, else as well as the hosts' clocks agree) and "
         "camera-state (index %zu, calibration revision %u); with every frame: p_c and P_c "
         "(calibration element, %zu bytes)\n",
@@ -172,6 +180,10 @@ int main(int argc, char** argv) {
                             " ms sent again, payload type " + std::to_string(c.rtx_payload_type))
                                .c_str()
                          : "no RTX",
+        c.fec_percentage > 0 ? ("; ULP FEC +" + std::to_string(c.fec_percentage) +
+                                " %, payload type " + std::to_string(c.fec_payload_type))
+                                   .c_str()
+                             : "; no FEC",
         i, c.calibration_revision, hd::drivers::calibration_element_size(c.p_c->distortion_count));
     senders.push_back(std::move(s));
   }

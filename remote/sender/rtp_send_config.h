@@ -31,7 +31,16 @@ struct RtpSendConfig {
   bool retransmission = true;
   int rtx_payload_type = 97;
   int rtx_history_ms = 500;  ///< older packets are past any jitter buffer's deadline
-  int mtu_bytes = 1200;      ///< below any path's MTU, with room for the header extensions
+  /// ULP FEC (RFC 5109 as GStreamer's rtpulpfecenc sends it, in the media's SSRC and sequence
+  /// numbers, as libwebrtc does): about fec_percentage % more packets, each the XOR of some of
+  /// one frame's packets, so the station rebuilds a lost one without a round trip (rtpbin's
+  /// request-fec-encoder, ahead of the RTX sender: its repairs keep the sequence numbers the
+  /// station asks for). 0: off. Costs the bytes, and the time the jitter buffer waits before it
+  /// declares a packet lost (the FEC decoder then tries).
+  int fec_percentage = 0;
+  int fec_payload_type = 122;
+  int rtx_fec_payload_type = 98;  ///< a FEC packet sent again (with retransmission)
+  int mtu_bytes = 1200;           ///< below any path's MTU, with room for the header extensions
   /// Bandwidth follows the view (drivers/rtp/view_feedback.h): while the station says it does
   /// not need this camera, only every low_rate_divider-th frame is sent; when it needs it again
   /// the next frame is a key frame. Without a valid message for view_feedback_timeout_s (an old

@@ -60,10 +60,21 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
 }
 
 std::string rtx_send_description(const RtpSendConfig& c) {
+  std::string map = std::to_string(c.payload_type) + "=(uint)" + std::to_string(c.rtx_payload_type);
+  if (c.fec_percentage > 0)  // a lost FEC packet is asked for too (the station cannot tell)
+    map += "," + std::to_string(c.fec_payload_type) + "=(uint)" +
+           std::to_string(c.rtx_fec_payload_type);
   return std::string("rtprtxsend name=") + send_elements::kRtxSend +
-         " payload-type-map=\"application/x-rtp-pt-map," + std::to_string(c.payload_type) +
-         "=(uint)" + std::to_string(c.rtx_payload_type) +
+         " payload-type-map=\"application/x-rtp-pt-map," + map +
          "\" max-size-time=" + std::to_string(c.rtx_history_ms) + " max-size-packets=0";
+}
+
+GstElement* make_fec_encoder(const RtpSendConfig& c) {
+  GstElement* e = gst_element_factory_make("rtpulpfecenc", send_elements::kFecEncoder);
+  if (e == nullptr) return nullptr;
+  g_object_set(e, "pt", static_cast<guint>(c.fec_payload_type), "percentage",
+               static_cast<guint>(c.fec_percentage), "multipacket", TRUE, nullptr);
+  return e;  // floating: rtpbin adds it to itself
 }
 
 }  // namespace hd::remote

@@ -2,6 +2,8 @@
 // The remote site's GStreamer send pipeline for one camera as data: a gst_parse_launch
 // description built from the named settings of an RtpSendConfig.
 
+#include <gst/gst.h>
+
 #include <string>
 
 #include "remote/sender/rtp_send_config.h"
@@ -19,6 +21,7 @@ inline constexpr const char* kRtpOut = "rtp_out";
 inline constexpr const char* kRtcpIn = "rtcp_in";
 inline constexpr const char* kSrtcpDecoder = "srtcpdec";  ///< the station's RTCP, with a key
 inline constexpr const char* kRtxSend = "rtxsend";
+inline constexpr const char* kFecEncoder = "fecenc";
 }  // namespace send_elements
 
 /// appsrc (RGBA, live, the newest 2 frames) → videoconvert → I420 → x264enc (zerolatency,
@@ -35,5 +38,9 @@ std::string send_pipeline_description(const RtpSendConfig& c);
 /// keeping rtx_history_ms of packets, payload_type → rtx_payload_type (a random RTX SSRC). The
 /// RTX packets carry the original's header extensions (capture time, camera state).
 std::string rtx_send_description(const RtpSendConfig& c);
+
+/// rtpbin's FEC encoder, when c.fec_percentage > 0: rtpulpfecenc protecting each frame's packets
+/// (multipacket: the marker bit closes a set) with c.fec_percentage % of FEC packets.
+GstElement* make_fec_encoder(const RtpSendConfig& c);
 
 }  // namespace hd::remote

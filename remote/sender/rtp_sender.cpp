@@ -182,6 +182,12 @@ void RtpSender::start() {
                                                             session);
                          }),
                          this);
+      if (config_.fec_percentage > 0)
+        g_signal_connect(rtpbin, "request-fec-encoder",
+                         G_CALLBACK(+[](GstElement*, guint, gpointer self) {
+                           return make_fec_encoder(static_cast<RtpSender*>(self)->config_);
+                         }),
+                         this);
       const gboolean linked = gst_element_link_pads(pay, "src", rtpbin, "send_rtp_sink_0");
       gst_object_unref(rtpbin);
       if (!linked)
@@ -190,6 +196,12 @@ void RtpSender::start() {
       if (config_.retransmission) rtxsend_ = by_name(pipeline_, send_elements::kRtxSend);
       if (config_.retransmission && rtxsend_ == nullptr)
         throw std::runtime_error("stream to " + where + ": rtpbin took no RTX aux sender");
+      GstElement* fec = by_name(pipeline_, send_elements::kFecEncoder);
+      const bool fec_ok = (fec != nullptr) == (config_.fec_percentage > 0);
+      if (fec != nullptr) gst_object_unref(fec);
+      if (!fec_ok)
+        throw std::runtime_error("stream to " + where +
+                                 ": rtpbin took no FEC encoder (rtpulpfecenc, gst-plugins-good)");
     }
     GstElement* ntp = gst_element_factory_make("rtphdrextntp64", nullptr);
     if (ntp == nullptr)

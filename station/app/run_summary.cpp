@@ -53,11 +53,11 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  "  network camera %-12s %" PRIu64 " packets (%" PRIu64
                  " malformed), security %s: %" PRIu64 " rejected; frames with capture time %" PRIu64
                  ", with arrival time %" PRIu64 "; PLI %" PRIu64 ", NACK %" PRIu64
-                 ", RTX received %" PRIu64 "; view feedback %" PRIu64 " sent, need changed %" PRIu64
-                 "%s%s\n",
+                 ", RTX received %" PRIu64 ", rebuilt from FEC %" PRIu64 ", lost %" PRIu64
+                 "; view feedback %" PRIu64 " sent, need changed %" PRIu64 "%s%s\n",
                  c.name.c_str(), n.packets, n.malformed, n.security.c_str(), n.srtp_rejected,
                  n.frames_stamped, n.frames_unstamped, n.pli_sent, n.nack_sent, n.rtx_received,
-                 n.view_feedback_sent, n.need_changes,
+                 n.fec_recovered, n.lost, n.view_feedback_sent, n.need_changes,
                  n.last_error.empty() ? "" : "; last error: ", n.last_error.c_str());
     std::fprintf(out,
                  "  network camera %-12s clock %s: offset %.3f ms +- %.3f ms (round trip %.3f ms,"
@@ -187,6 +187,8 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                        {"pli_sent", n.pli_sent},
                        {"nack_sent", n.nack_sent},
                        {"rtx_received", n.rtx_received},
+                       {"fec_recovered", n.fec_recovered},
+                       {"packets_lost", n.lost},
                        {"view_feedback_sent", n.view_feedback_sent},
                        {"need_changes", n.need_changes},
                        {"last_error", n.last_error}});

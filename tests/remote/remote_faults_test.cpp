@@ -1,8 +1,8 @@
 // Faults in the receive path (GStreamer netsim before rtpbin; netem is not available here), with
 // hybrid-remote --scene scenes/default.yaml as the sender: for 0 / 1 / 5 % loss x 0 / 20 / 50 ms
-// jitter, with repair off and on, the share of frames shown is asserted and no older frame is
-// ever presented as new; after a 3 s cut video is back within 1 s of the link's return; a killed
-// and restarted sender is shown again. Prints the faults table (docs/network.md).
+// jitter, with repair off, RTX and RTX + FEC, the share of frames shown is asserted and no older
+// frame is ever presented as new; after a 3 s cut video is back within 1 s of the link's return; a
+// killed and restarted sender is shown again. Prints the faults table (docs/network.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,10 +25,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::vector<std::string> remote_to(uint16_t port) {
-  return {hd::test::remote_bin(), "--scene",
-          std::string(hd::test::source_dir()) + "/scenes/default.yaml", "--to",
-          "rtp://127.0.0.1:" + std::to_string(port)};
+std::vector<std::string> remote_to(uint16_t port, int fec_percent = 0) {
+  return {hd::test::remote_bin(),
+          "--scene",
+          std::string(hd::test::source_dir()) + "/scenes/default.yaml",
+          "--to",
+          "rtp://127.0.0.1:" + std::to_string(port),
+          "--fec",
+          std::to_string(fec_percent)};
 }
 
 // What a consumer (the render loop) sees while polling the mailbox each millisecond.
@@ -45,11 +49,31 @@ struct Watch {
   }
 };
 
+// How a cell repairs loss: not at all (no NACK, no RTX), with NACK and RTX (the station's and
+// hybrid-remote's defaults), with ULP FEC on top (hybrid-remote --fec kFecPercent), or with FEC
+// alone (the station asks for nothing).
+enum class Repair { kOff, kRtx, kRtxFec, kFec };
+constexpr int kFecPercent = 20;
+
+const char* name(Repair r) {
+  switch (r) {
+    case Repair::kOff:
+      return "off";
+    case Repair::kRtx:
+      return "RTX";
+    case Repair::kRtxFec:
+      return "RTX + FEC 20 %";
+    case Repair::kFec:
+      return "FEC 20 %";
+  }
+  return "?";
+}
+
 // One cell of the faults table: what reached this host, what was shown, what it cost.
 struct Cell {
   double loss = 0.0;
   int jitter_ms = 0;
-  bool repair = false;
+  Repair repair = Repair::kOff;
   uint64_t arrived = 0, published = 0, shown = 0, older_than_shown = 0;
   RtpCameraStats stats;
   RtpCamera::Feedback feedback;
@@ -65,7 +89,7 @@ struct Cell {
 // same cell, only slower. The warm-up is the stream's start (rtpbin builds its stream while the
 // first packets wait, and the jitter budget measures the link for 1 s); its frames are not in the
 // shares. Then the sender is killed and the camera drains until it stalls.
-Cell run_cell(double loss, int jitter_ms, bool repair) {
+Cell run_cell(double loss, int jitter_ms, Repair repair) {
   constexpr uint64_t kWarmUpFrames = 30;
   constexpr uint64_t kFrames = 150;  // 5 s at 30 Hz: 1 % of it is 1.5 frames
   Cell cell;
@@ -78,7 +102,7 @@ Cell run_cell(double loss, int jitter_ms, bool repair) {
   c.listen = {"127.0.0.1", port};
   // Off: no NACK, no RTX receiver, no frame-end requests (the sender's RTX stays idle); the
   // jitter buffer is sized from the link either way.
-  c.retransmission = repair;
+  c.retransmission = repair == Repair::kRtx || repair == Repair::kRtxFec;
   c.netsim_always = true;
   c.netsim_drop_probability = loss;
   c.netsim_max_delay_ms = jitter_ms;
@@ -100,13 +124,14 @@ Cell run_cell(double loss, int jitter_ms, bool repair) {
   uint64_t arrived_before = 0, bytes_before = 0;
   int64_t last_ns = 0;
   {
-    testing::ChildProcess remote(remote_to(port));
+    testing::ChildProcess remote(
+        remote_to(port, repair == Repair::kRtxFec || repair == Repair::kFec ? kFecPercent : 0));
     EXPECT_TRUE(eventually([&] {
       w.poll(cam);
       drain_timings();
       return cam.stats().frames_arrived >= kWarmUpFrames;
     })) << loss
-        << " " << jitter_ms << " repair " << repair;
+        << " " << jitter_ms << " repair " << name(repair);
     const RtpCameraStats before = cam.stats();
     arrived_before = before.frames_arrived;
     bytes_before = before.bytes;
@@ -116,7 +141,7 @@ Cell run_cell(double loss, int jitter_ms, bool repair) {
       drain_timings();
       return cam.stats().frames_arrived >= arrived_before + kFrames;
     })) << loss
-        << " " << jitter_ms << " repair " << repair;
+        << " " << jitter_ms << " repair " << name(repair);
     last_ns = monotonic_now_ns();
     cell.kbytes_per_s = double(cam.stats().bytes - bytes_before) / 1e3 /
                         std::max(1e-3, double(last_ns - window_ns) * 1e-9);
@@ -141,24 +166,22 @@ Cell run_cell(double loss, int jitter_ms, bool repair) {
   return cell;
 }
 
-// The faults table: loss 0 / 1 / 5 % x jitter 0 / 20 / 50 ms x repair off / on (the station's
-// defaults: NACK and RTX, frame-end requests, the jitter buffer sized from the link). Asserted
-// on the share of the frames that reached this host which were shown (published):
+// The faults table: loss 0 / 1 / 5 % x jitter 0 / 20 / 50 ms x repair off / RTX / RTX + FEC
+// (RTX: the station's defaults, NACK and RTX, frame-end requests, the jitter buffer sized from the
+// link; FEC: hybrid-remote --fec 20 on top). Asserted on the share of the frames that reached
+// this host which were shown (published):
 // - at 0 % loss every frame (the sender may be killed inside its last frame's burst: 1 frame);
-// - at 1 % loss with repair at least 95 %;
-// - at 5 % loss with repair at least 80 %;
-// - the 95 and 80 % only with 0 or 20 ms of jitter (not held yet at 50 ms, see below); with loss,
-//   10 (1 %) or 15 (5 %) points more than without repair.
+// - at 1 % loss with repair at least 95 %, at 5 % at least 80 %; with RTX alone only with 0 or
+//   20 ms of jitter (see below); with loss, 10 (1 %) or 15 (5 %) points more than without repair.
 // Never an old frame as new. Counted by frames, not time, so a loaded machine runs the same cells.
 TEST(RemoteFaults, LossAndJitterTableShowsTheFramesItPromisesAndNeverOldAsNew) {
   std::printf(
       "| loss | jitter ms | repair | frames shown / reached the host | share | latency p50 ms "
       "(capture to shown) | jitter buffer ms (transit spread of originals, of repairs) | kB/s | "
-      "NACK sent | frame-end requests | "
-      "retransmissions received | kernel drops | jitter buffer drops late / over latency / "
-      "declared lost | frames out of the depayloader / decoded / key frames / not newer | old "
-      "shown as new |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "NACK sent | frame-end requests | retransmissions received | rebuilt from FEC | kernel "
+      "drops | jitter buffer drops late / over latency / declared lost | frames out of the "
+      "depayloader / decoded / key frames / not newer | old shown as new |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   // HD_FAULTS_CELL="LOSS_PERCENT,JITTER_MS" runs that cell only (to look into one).
   const char* only = std::getenv("HD_FAULTS_CELL");
   for (double loss : {0.0, 0.01, 0.05})
@@ -167,20 +190,20 @@ TEST(RemoteFaults, LossAndJitterTableShowsTheFramesItPromisesAndNeverOldAsNew) {
           std::string(only) != std::to_string(int(loss * 100)) + "," + std::to_string(jitter_ms))
         continue;
       double share_without = 0.0;
-      for (bool repair : {false, true}) {
+      for (Repair repair : {Repair::kOff, Repair::kRtx, Repair::kRtxFec}) {
         const Cell cell = run_cell(loss, jitter_ms, repair);
         const RtpCameraStats& st = cell.stats;
         std::printf(
             "| %.0f %% | 0..%d | %s | %llu / %llu | %.1f %% | %.1f | %d (%.1f, %.1f) | %.0f | %llu "
-            "| %llu | %llu "
-            "| %lld | %llu / %llu / %llu | %llu / %llu / %llu / %llu | %llu |\n",
-            loss * 100, jitter_ms, repair ? "on" : "off",
-            static_cast<unsigned long long>(cell.published),
+            "| %llu | %llu | %llu | %lld | %llu / %llu / %llu | %llu / %llu / %llu / %llu | %llu "
+            "|\n",
+            loss * 100, jitter_ms, name(repair), static_cast<unsigned long long>(cell.published),
             static_cast<unsigned long long>(cell.arrived), cell.share() * 100, cell.latency_p50_ms,
             st.jitter_buffer_latency_ms, st.transit_spread_ms, st.repair_spread_ms,
             cell.kbytes_per_s, static_cast<unsigned long long>(cell.feedback.nack_sent),
             static_cast<unsigned long long>(st.frame_end_requests),
             static_cast<unsigned long long>(cell.feedback.rtx_received),
+            static_cast<unsigned long long>(st.fec_recovered),
             static_cast<long long>(st.kernel_drops),
             static_cast<unsigned long long>(st.jitter_too_late),
             static_cast<unsigned long long>(st.jitter_over_latency),
@@ -192,8 +215,7 @@ TEST(RemoteFaults, LossAndJitterTableShowsTheFramesItPromisesAndNeverOldAsNew) {
             static_cast<unsigned long long>(cell.older_than_shown));
         std::fflush(stdout);
         const std::string where = std::to_string(int(loss * 100)) + " % loss, 0.." +
-                                  std::to_string(jitter_ms) + " ms, repair " +
-                                  (repair ? "on" : "off");
+                                  std::to_string(jitter_ms) + " ms, repair " + name(repair);
         EXPECT_EQ(cell.older_than_shown, 0u) << where;
         EXPECT_EQ(st.capture_after_arrival, 0u) << where;
         EXPECT_GE(st.kernel_drops, 0) << "the socket's drops were not measured: " << where;
@@ -201,20 +223,25 @@ TEST(RemoteFaults, LossAndJitterTableShowsTheFramesItPromisesAndNeverOldAsNew) {
         if (loss == 0.0) {
           EXPECT_GE(cell.published + 1, cell.arrived) << where;
         }
-        if (!repair) {
+        if (repair == Repair::kOff) {
           share_without = cell.share();
           EXPECT_EQ(cell.feedback.rtx_received, 0u) << where;
+          EXPECT_EQ(st.fec_recovered, 0u) << where;
           continue;
         }
-        // At 50 ms of jitter the shares are not held reliably yet: a retransmission waits ~50 ms
-        // in netsim's queue like any packet, and some repairs come after their deadline
-        // (measured under stress-ng --cpu 2: 93.3 % at 1 %, 79.3-85.3 % at 5 %, 4-14 packets
-        // given up per cell). Asserted there: repair shows clearly more than no repair. FEC,
-        // which needs no round trip, is the missing piece (docs/network.md).
-        if (jitter_ms < 50 && loss == 0.01) {
+        if (repair == Repair::kRtx) {
+          EXPECT_EQ(st.fec_recovered, 0u) << where;
+        }
+        // With RTX alone, at 50 ms of jitter the shares are not held reliably: a retransmission
+        // waits ~50 ms in netsim's queue like any packet, and some repairs come after their
+        // deadline (measured under stress-ng --cpu 2: 93.3 % at 1 %, 79.3-85.3 % at 5 %, 4-14
+        // packets given up per cell). Asserted there: clearly more than no repair. FEC, which
+        // needs no round trip, holds them.
+        const bool held = repair == Repair::kRtxFec || jitter_ms < 50;
+        if (held && loss == 0.01) {
           EXPECT_GE(cell.share(), 0.95) << where;
         }
-        if (jitter_ms < 50 && loss == 0.05) {
+        if (held && loss == 0.05) {
           EXPECT_GE(cell.share(), 0.80) << where;
         }
         if (loss > 0.0) {
@@ -222,6 +249,28 @@ TEST(RemoteFaults, LossAndJitterTableShowsTheFramesItPromisesAndNeverOldAsNew) {
         }
       }
     }
+}
+
+// FEC on its own, with no NACK: the packets the jitter buffer gives up on are rebuilt from their
+// frame's FEC packets (20 % more packets; rtpulpfecdec recovers one loss per FEC packet's set),
+// so clearly more frames are shown than without, at no round trip.
+TEST(RemoteFaults, FecAloneRebuildsLostPacketsWithoutAskingForThem) {
+  const Cell off = run_cell(0.05, 0, Repair::kOff);
+  const Cell fec = run_cell(0.05, 0, Repair::kFec);
+  std::printf(
+      "5 %% loss: %.1f %% shown without repair, %.1f %% with FEC alone (%llu packets "
+      "rebuilt, %llu given up on, %.0f against %.0f kB/s)\n",
+      off.share() * 100, fec.share() * 100,
+      static_cast<unsigned long long>(fec.stats.fec_recovered),
+      static_cast<unsigned long long>(fec.stats.jitter_lost), fec.kbytes_per_s, off.kbytes_per_s);
+  EXPECT_EQ(fec.feedback.nack_sent, 0u);
+  EXPECT_EQ(fec.feedback.rtx_received, 0u);
+  EXPECT_EQ(off.stats.fec_recovered, 0u);
+  // ~12 packets a frame at 5 %: ~90 lost in 150 frames, most alone in their FEC set.
+  EXPECT_GE(fec.stats.fec_recovered, 20u);
+  EXPECT_GT(fec.share(), off.share() + 0.10);
+  EXPECT_GT(fec.kbytes_per_s, off.kbytes_per_s * 1.1);  // what it costs: FEC packets
+  EXPECT_EQ(fec.older_than_shown, 0u);
 }
 
 TEST(RemoteFaults, AfterAThreeSecondCutVideoIsBackWithinOneSecond) {
