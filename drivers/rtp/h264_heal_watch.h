@@ -1,0 +1,62 @@
+#pragma once
+// Which decoded H.264 frames are whole pictures after a loss: the station's rule for a stream
+// that heals by a key frame (IDR) or by intra refresh (a recovery point SEI), detected from the
+// stream itself, so the station needs no setting that must match the sender's.
+
+#include <array>
+#include <cstdint>
+
+#include "drivers/rtp/h264_recovery_point.h"
+
+namespace hd::drivers {
+
+/// Fed, in the depayloader's thread, with the RTP packets going into rtph264depay, its lost-packet
+/// events and the access units coming out of it (pts: the GStreamer PTS, the same on a packet
+/// and on the access unit made of it). An access unit is broken when a packet of it may be
+/// missing: a sequence gap before or inside it, or a lost packet while it was incomplete. From a
+/// broken access unit on, the stream is damaged (every picture predicted from it is) until
+/// - an intact IDR (the picture is whole at once), or
+/// - an intact access unit with a recovery point SEI, recovery_frame_cnt intact access units
+///   later (H.264 D.2.8: from there on the pictures are whole). The SEI's access unit began
+///   after the loss: it is intact, and the one after a gap never is. A new loss meanwhile starts
+///   over.
+/// Before the first IDR or recovery point the stream is damaged too (nothing to predict from).
+class H264HealWatch {
+ public:
+  void packet(uint16_t sequence, uint64_t pts, bool marker);
+  /// A GstRTPPacketLost event: the stream is damaged now; the access unit in progress (its last
+  /// packet did not come) is broken.
+  void lost();
+
+  struct Verdict {
+    bool whole = false;  ///< the decoded picture of this access unit is whole: may be shown
+    /// The stream heals by refresh but has been damaged for two refresh periods (its own
+    /// recovery_frame_cnt + 1 frames, twice) without a recovery point in sight: ask for a key
+    /// frame (PLI). Once per two periods; never for a stream without recovery points (its
+    /// depayloader asks on every loss).
+    bool request_key_frame = false;
+  };
+  Verdict access_unit(uint64_t pts, const H264AccessUnitInfo& info);
+
+  /// A recovery point SEI was seen outside an IDR: the sender heals by intra refresh.
+  bool heals_by_refresh() const { return refresh_frames_ > 0; }
+  int refresh_frames() const { return refresh_frames_; }  ///< recovery_frame_cnt + 1; 0 none
+
+ private:
+  void mark_broken(uint64_t pts);
+  bool broken(uint64_t pts) const;
+
+  bool have_packet_ = false, last_marker_ = true;
+  uint16_t last_sequence_ = 0;
+  uint64_t last_pts_ = 0;
+  // The newest broken access units' PTS: an access unit leaves the depayloader at the latest
+  // when the next one's first packet came, so a few suffice.
+  std::array<uint64_t, 8> broken_{};
+  std::size_t broken_next_ = 0, broken_count_ = 0;
+  bool damaged_ = true;
+  int64_t countdown_ = -1;  ///< intact access units until whole; -1: no recovery point pending
+  int refresh_frames_ = 0;
+  uint64_t damaged_run_ = 0;  ///< access units since the stream was damaged, or since the last PLI
+};
+
+}  // namespace hd::drivers
