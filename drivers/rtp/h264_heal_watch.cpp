@@ -59,13 +59,12 @@ H264HealWatch::Verdict H264HealWatch::access_unit(uint64_t pts, const H264Access
   }
   v.whole = !damaged_;
   if (!damaged_) {
-    damaged_run_ = 0;
+    requested_ = false;
     return v;
   }
-  ++damaged_run_;
-  if (heals_by_refresh() && countdown_ < 0 && damaged_run_ >= 2 * uint64_t(refresh_frames_)) {
+  if (!heals_by_refresh() && (!intact || !requested_)) {
     v.request_key_frame = true;
-    damaged_run_ = 0;
+    requested_ = true;
   }
   return v;
 }

@@ -30,10 +30,12 @@ class H264HealWatch {
 
   struct Verdict {
     bool whole = false;  ///< the decoded picture of this access unit is whole: may be shown
-    /// The stream heals by refresh but has been damaged for two refresh periods (its own
-    /// recovery_frame_cnt + 1 frames, twice) without a recovery point in sight: ask for a key
-    /// frame (PLI). Once per two periods; never for a stream without recovery points (its
-    /// depayloader asks on every loss).
+    /// Ask for a key frame (PLI): a stream that heals only by IDR is damaged, and this access
+    /// unit is its first damaged one or a new loss (as rtph264depay's request-keyframe asked on
+    /// every discontinuity). Never for a stream that heals by refresh: x264enc answers a
+    /// force-key-unit with intra refresh on by starting another sweep (x264_encoder_intra_refresh,
+    /// gstx264enc.c), not an IDR, and its sweeps are continuous anyway, so a PLI would heal
+    /// nothing sooner.
     bool request_key_frame = false;
   };
   Verdict access_unit(uint64_t pts, const H264AccessUnitInfo& info);
@@ -56,7 +58,7 @@ class H264HealWatch {
   bool damaged_ = true;
   int64_t countdown_ = -1;  ///< intact access units until whole; -1: no recovery point pending
   int refresh_frames_ = 0;
-  uint64_t damaged_run_ = 0;  ///< access units since the stream was damaged, or since the last PLI
+  bool requested_ = false;  ///< a key frame was asked for since the stream was last whole
 };
 
 }  // namespace hd::drivers

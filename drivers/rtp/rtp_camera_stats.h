@@ -102,6 +102,17 @@ struct RtpCameraStats {
   /// Access units out of the depayloader (frames whole enough to decode; after a loss it drops
   /// the frames up to the next key frame, which it asks for).
   uint64_t access_units = 0;
+  /// Frames of a damaged stream (drivers/rtp/h264_heal_watch.h: after a loss, until an intact
+  /// IDR, or a recovery point's recovery_frame_cnt intact frames later): a part of the picture is
+  /// missing or predicted from a missing part. Never published, only counted: access units
+  /// dropped before the decoder (a stream that heals only by IDR) and decoded frames not shown
+  /// (one that heals by refresh, whose damaged frames the decoder conceals and the sweep needs).
+  uint64_t frames_damaged = 0;
+  /// The stream carries recovery point SEIs outside IDRs (a sender with intra refresh): no key
+  /// frame is asked for after a loss (x264enc would answer with another sweep, not an IDR).
+  /// refresh_frames: the newest recovery_frame_cnt + 1, the frames a sweep takes.
+  bool heals_by_refresh = false;
+  int refresh_frames = 0;
 };
 
 /// The counts RtpCamera's threads keep (each counter written by one thread, read by any:
@@ -126,6 +137,8 @@ struct RtpCameraCounters {
   std::atomic<uint64_t> jitter_too_late{0}, jitter_over_latency{0};
   std::atomic<uint64_t> packets_depayloaded{0}, frames_decoded{0}, frames_converted{0};
   std::atomic<uint64_t> frames_arrived{0}, jitter_lost{0}, access_units{0};
+  std::atomic<uint64_t> frames_damaged{0};
+  std::atomic<int> refresh_frames{0};  ///< 0 until a recovery point SEI outside an IDR was seen
   std::atomic<uint64_t> nacks_sent_at_once{0}, plis_sent_at_once{0};
 
   void count(RtpPacketError e) {
