@@ -71,6 +71,12 @@ int main(int argc, char** argv) {
   app.add_flag("--no-rtx", no_rtx,
                "answer no NACKs (no RTX, RFC 4588): a lost packet is then repaired only by the "
                "next key frame");
+  bool intra_refresh = false;
+  app.add_flag("--intra-refresh", intra_refresh,
+               "x264enc intra refresh: no IDR after the first unless the station asks (PLI); a "
+               "column of intra blocks sweeps each picture once per --key-interval-s instead, so "
+               "a loss heals within that time without a key frame's burst (the station detects "
+               "it from the stream's recovery points)");
   bool full_rate = false;
   app.add_flag("--full-rate", full_rate,
                "ignore the station's view feedback and send every camera at full rate (by "
@@ -150,6 +156,7 @@ int main(int argc, char** argv) {
     c.T_world_cam = calibrated[i].T_world_real;
     c.srtp_key = key;
     c.retransmission = !no_rtx;
+    c.intra_refresh = intra_refresh;
     c.follow_view = !full_rate;
     std::unique_ptr<hd::remote::RtpSender> s;
     try {
@@ -161,12 +168,14 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "  camera %zu %-10s %dx%d at %g Hz -> rtp://%s:%d (RTCP %d): x264enc (software; "
-        "zerolatency, ultrafast, no B-frames, key frame every %d frames, VBV %d ms = one frame, "
+        "zerolatency, ultrafast, no B-frames, %s every %d frames, VBV %d ms = one frame, "
         "%d kbit/s), rtph264pay, rtpbin (%s); per packet: ntp-64 capture time (CLOCK_REALTIME: the "
         "station maps it exactly on one host, else as well as the hosts' clocks agree) and "
         "camera-state (index %zu, calibration revision %u); with every frame: p_c and P_c "
         "(calibration element, %zu bytes)\n",
         i, sc.name.c_str(), c.width_px, c.height_px, c.rate_hz, c.host.c_str(), c.port, c.port + 1,
+        c.intra_refresh ? "intra refresh (no IDR after the first unless asked for): a sweep"
+                        : "key frame",
         c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps,
         c.retransmission ? ("RTX: NACKed packets of the last " + std::to_string(c.rtx_history_ms) +
                             " ms sent again, payload type " + std::to_string(c.rtx_payload_type))
