@@ -97,10 +97,10 @@ struct RtpCameraStats {
   double repair_round_trip_ms = 0.0;
   uint64_t frame_end_requests = 0;
   /// Packets the jitter buffer gave up on (its GstRTPPacketLost events, do-lost): each one a
-  /// frame not shown, and the frames after it up to the next key frame.
+  /// frame not shown, and the frames after it until the stream heals (frames_damaged).
   uint64_t jitter_lost = 0;
-  /// Access units out of the depayloader (frames whole enough to decode; after a loss it drops
-  /// the frames up to the next key frame, which it asks for).
+  /// Access units out of the depayloader (it drops a fragment without its start; what follows a
+  /// loss is judged by the camera: frames_damaged).
   uint64_t access_units = 0;
   /// Frames of a damaged stream (drivers/rtp/h264_heal_watch.h: after a loss, until an intact
   /// IDR, or a recovery point's recovery_frame_cnt intact frames later): a part of the picture is

@@ -99,7 +99,7 @@ int run_config(const std::string& config_file, double seconds, const std::atomic
         got.delivered.known() ? drivers::format_text(got.delivered).c_str()
                               : drivers::size_text(cc.p_c.width, cc.p_c.height).c_str(),
         sc.host.c_str(), sc.port, sc.port + 1, sc.encoder.c_str(), sc.bitrate_kbps,
-        sc.intra_refresh ? "intra refresh (no IDR after the first unless asked for): a sweep"
+        sc.intra_refresh ? "intra refresh (no IDR after the first, a PLI starts a sweep): a sweep"
                          : "key frame",
         sc.key_int_frames(), sc.rate_hz, cc.calibration_file.c_str(),
         drivers::calibration_element_size(cc.p_c.distortion_count), c.x(), c.y(), c.z());

@@ -63,8 +63,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(50, 100000));
   app.add_option("--key-interval-s", key_interval_s,
-                 "a key frame (with SPS/PPS) at least this often: how soon a station that "
-                 "joins or loses packets shows video again")
+                 "a key frame (with SPS/PPS), or with --intra-refresh a refresh sweep, at least "
+                 "this often: how soon a station that joins or loses packets shows video again")
       ->capture_default_str()
       ->check(CLI::Range(0.05, 10.0));
   bool no_rtx = false;
@@ -73,8 +73,8 @@ int main(int argc, char** argv) {
                "next key frame");
   bool intra_refresh = false;
   app.add_flag("--intra-refresh", intra_refresh,
-               "x264enc intra refresh: no IDR after the first unless the station asks (PLI); a "
-               "column of intra blocks sweeps each picture once per --key-interval-s instead, so "
+               "x264enc intra refresh: no IDR after the first, even on a PLI; a column of intra "
+               "blocks sweeps each picture once per --key-interval-s instead, so "
                "a loss heals within that time without a key frame's burst (the station detects "
                "it from the stream's recovery points)");
   bool full_rate = false;
@@ -174,7 +174,7 @@ int main(int argc, char** argv) {
         "camera-state (index %zu, calibration revision %u); with every frame: p_c and P_c "
         "(calibration element, %zu bytes)\n",
         i, sc.name.c_str(), c.width_px, c.height_px, c.rate_hz, c.host.c_str(), c.port, c.port + 1,
-        c.intra_refresh ? "intra refresh (no IDR after the first unless asked for): a sweep"
+        c.intra_refresh ? "intra refresh (no IDR after the first, a PLI starts a sweep): a sweep"
                         : "key frame",
         c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps,
         c.retransmission ? ("RTX: NACKed packets of the last " + std::to_string(c.rtx_history_ms) +
