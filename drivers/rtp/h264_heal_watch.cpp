@@ -18,12 +18,16 @@ bool H264HealWatch::broken(uint64_t pts) const {
          broken_.begin() + broken_count_;
 }
 
-void H264HealWatch::packet(uint16_t sequence, uint64_t pts, bool marker) {
+void H264HealWatch::packet(uint16_t sequence, uint64_t pts, bool marker, bool starts_picture) {
   if (have_packet_ && sequence != uint16_t(last_sequence_ + 1)) {
     // The missing packets were the previous access unit's tail (unless it had ended), this one's
-    // head, or whole access units between: both ends are suspect.
+    // head (unless this packet begins it), or whole access units between. Every access unit
+    // judged from here on comes after them.
+    damaged_ = true;
+    countdown_ = -1;
+    requested_ = false;  // a new loss: ask again
     if (!last_marker_) mark_broken(last_pts_);
-    mark_broken(pts);
+    if (pts == last_pts_ || !starts_picture) mark_broken(pts);
   }
   have_packet_ = true;
   last_sequence_ = sequence;
@@ -34,6 +38,7 @@ void H264HealWatch::packet(uint16_t sequence, uint64_t pts, bool marker) {
 void H264HealWatch::lost() {
   damaged_ = true;
   countdown_ = -1;
+  requested_ = false;
   if (have_packet_ && !last_marker_) mark_broken(last_pts_);
 }
 
@@ -62,7 +67,7 @@ H264HealWatch::Verdict H264HealWatch::access_unit(uint64_t pts, const H264Access
     requested_ = false;
     return v;
   }
-  if (!heals_by_refresh() && (!intact || !requested_)) {
+  if (!heals_by_refresh() && !requested_) {
     v.request_key_frame = true;
     requested_ = true;
   }

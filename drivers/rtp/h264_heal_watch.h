@@ -13,17 +13,19 @@ namespace hd::drivers {
 /// Fed, in the depayloader's thread, with the RTP packets going into rtph264depay, its lost-packet
 /// events and the access units coming out of it (pts: the GStreamer PTS, the same on a packet
 /// and on the access unit made of it). An access unit is broken when a packet of it may be
-/// missing: a sequence gap before or inside it, or a lost packet while it was incomplete. From a
-/// broken access unit on, the stream is damaged (every picture predicted from it is) until
+/// missing: a sequence gap inside it or before it (unless its first packet after the gap begins
+/// a picture: h264_payload_starts_picture), or a lost packet while it was incomplete. From a gap
+/// or a broken access unit on, the stream is damaged (every picture predicted from what is
+/// missing is) until
 /// - an intact IDR (the picture is whole at once), or
 /// - an intact access unit with a recovery point SEI, recovery_frame_cnt intact access units
 ///   later (H.264 D.2.8: from there on the pictures are whole). The SEI's access unit began
-///   after the loss: it is intact, and the one after a gap never is. A new loss meanwhile starts
+///   after the loss: it is intact, so no packet of it was lost. A new loss meanwhile starts
 ///   over.
 /// Before the first IDR or recovery point the stream is damaged too (nothing to predict from).
 class H264HealWatch {
  public:
-  void packet(uint16_t sequence, uint64_t pts, bool marker);
+  void packet(uint16_t sequence, uint64_t pts, bool marker, bool starts_picture);
   /// A GstRTPPacketLost event: the stream is damaged now; the access unit in progress (its last
   /// packet did not come) is broken.
   void lost();
@@ -58,7 +60,7 @@ class H264HealWatch {
   bool damaged_ = true;
   int64_t countdown_ = -1;  ///< intact access units until whole; -1: no recovery point pending
   int refresh_frames_ = 0;
-  bool requested_ = false;  ///< a key frame was asked for since the stream was last whole
+  bool requested_ = false;  ///< a key frame was asked for since the last loss
 };
 
 }  // namespace hd::drivers

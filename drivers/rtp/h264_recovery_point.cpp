@@ -91,6 +91,27 @@ std::optional<uint32_t> sei_recovery_frame_cnt(std::span<const uint8_t> nal, boo
   return std::nullopt;
 }
 
+bool h264_payload_starts_picture(std::span<const uint8_t> payload) {
+  // A NAL unit's header byte and the byte after it (for a slice, first_mb_in_slice's ue(v) is
+  // "1", i.e. 0, exactly when that byte's top bit is set).
+  auto starts = [](uint8_t header, std::optional<uint8_t> next) {
+    const uint8_t type = header & 0x1F;
+    if (type >= kSeiNal && type <= 9) return true;  // SEI, SPS, PPS, AUD
+    if (type >= 1 && type <= kIdrNal) return next.has_value() && (*next & 0x80) != 0;
+    return false;
+  };
+  auto byte = [&](std::size_t i) {
+    return i < payload.size() ? std::optional<uint8_t>(payload[i]) : std::nullopt;
+  };
+  if (payload.empty()) return false;
+  const uint8_t type = payload[0] & 0x1F;
+  if (type == 24) return payload.size() > 3 && starts(payload[3], byte(4));  // STAP-A: size, NAL
+  if (type == 28)  // FU-A: the indicator, then the FU header with S (start) and the NAL's type
+    return payload.size() > 1 && (payload[1] & 0x80) != 0 &&
+           starts(uint8_t((payload[0] & 0xE0) | (payload[1] & 0x1F)), byte(2));
+  return starts(payload[0], byte(1));
+}
+
 H264AccessUnitInfo scan_h264_access_unit(std::span<const uint8_t> au, H264Framing framing) {
   H264AccessUnitInfo info;
   auto look_at = [&](std::span<const uint8_t> nal) {

@@ -32,4 +32,10 @@ std::optional<uint32_t> sei_recovery_frame_cnt(std::span<const uint8_t> nal,
 /// Scans every NAL unit of `au`.
 H264AccessUnitInfo scan_h264_access_unit(std::span<const uint8_t> au, H264Framing framing);
 
+/// Whether an RTP H.264 payload (RFC 6184: single NAL unit, STAP-A, FU-A) begins a picture: its
+/// first NAL unit is an AUD, SPS, PPS or SEI (they precede a picture's slices, 7.4.1.2.3), or the
+/// start of a slice with first_mb_in_slice 0 (the test rtph264depay makes too). The first packet
+/// of a new RTP time after a gap that begins one shows the lost packets were not its own.
+bool h264_payload_starts_picture(std::span<const uint8_t> payload);
+
 }  // namespace hd::drivers

@@ -12,6 +12,7 @@
 #include "drivers/gobject_ptr.h"
 #include "drivers/rtp/gstreamer_init.h"
 #include "drivers/rtp/h264_payload.h"
+#include "drivers/rtp/h264_recovery_point.h"
 #include "drivers/rtp/rtp_receive_pipeline.h"
 
 namespace hd::drivers {
@@ -249,6 +250,7 @@ void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
   const bool parsed =
       parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view) == RtpPacketError::kNone;
   const bool extended = parsed && view.has_extension;  // else a plain sender: nothing to read
+  const bool starts_picture = parsed && h264_payload_starts_picture(view.payload);
   if (extended) {
     e = read_frame_stamp(view, stamp);
     ce = read_packet_calibration(view, stamp.camera, calibration);
@@ -271,7 +273,7 @@ void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
   stamper_.add_packet(GST_CLOCK_TIME_IS_VALID(pts) ? std::optional<uint64_t>(pts) : std::nullopt,
                       view.sequence, stamped ? &stamp : nullptr, now);
-  heal_.packet(view.sequence, pts, view.marker);
+  heal_.packet(view.sequence, pts, view.marker, starts_picture);
 }
 
 // The depayloader's output: access units, where key frames are not delta units.

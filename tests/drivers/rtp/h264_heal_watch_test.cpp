@@ -18,15 +18,17 @@ struct Stream {
   H264HealWatch w;
   uint16_t seq = 65530;  // wraps within the tests
   uint64_t n = 0;
-  // Sends frame n's packets except those in `drop` (0..2), then judges it. A dropped last packet
+  // Sends frame n's packets except those in `drop` (0..2), then judges it (no lost event when all
+  // three are dropped: the gap alone tells). A dropped last packet
   // is known only from the jitter buffer's lost event (the depayloader outputs the access unit
   // without its marker when that event or the next packet comes): sent before judging.
   H264HealWatch::Verdict frame(H264AccessUnitInfo info = {}, std::initializer_list<int> drop = {}) {
     const uint64_t pts = ++n * kFrame;
     for (int p = 0; p < 3; ++p, ++seq) {
       if (std::find(drop.begin(), drop.end(), p) != drop.end()) continue;
-      w.packet(seq, pts, p == 2);
+      w.packet(seq, pts, p == 2, p == 0);  // the first packet begins the picture
     }
+    if (drop.size() == 3) return {};  // a whole frame lost: nothing out of the depayloader
     if (std::find(drop.begin(), drop.end(), 2) != drop.end()) w.lost();
     return w.access_unit(pts, info);
   }
@@ -80,11 +82,21 @@ TEST(H264HealWatch, TheRecoveryPointMustBeginAfterTheLoss) {
   EXPECT_FALSE(s.frame(recovery(1), {1}).whole);
   EXPECT_FALSE(s.frame().whole);
   EXPECT_FALSE(s.frame().whole);
-  // A gap right before one: its head may be what was lost.
+  // One that lost its head.
+  EXPECT_FALSE(s.frame(recovery(1), {0}).whole);
+  EXPECT_FALSE(s.frame().whole);
+  // A gap right before one whose first packet begins it: the lost packets were not its own.
   s.seq += 2;
   EXPECT_FALSE(s.frame(recovery(1)).whole);
+  EXPECT_TRUE(s.frame().whole);
+  // The same after whole frames were lost: the gap alone damages the stream.
+  s.frame({}, {0, 1, 2});
   EXPECT_FALSE(s.frame().whole);
+  EXPECT_TRUE(s.frame(idr()).whole);
+  s.frame({}, {0, 1, 2});
+  EXPECT_TRUE(s.frame(idr()).whole);  // an IDR right after the gap, all of it there
   // A loss during the countdown starts over.
+  s.frame({}, {1});
   EXPECT_FALSE(s.frame(recovery(2)).whole);
   EXPECT_FALSE(s.frame().whole);
   EXPECT_FALSE(s.frame({}, {2}).whole);
@@ -100,8 +112,8 @@ TEST(H264HealWatch, ALostEventDamagesTheStreamAndTheAccessUnitInProgress) {
   s.frame(idr());
   // Two packets of the next frame came, then the jitter buffer gave up on the third.
   const uint64_t pts = ++s.n * kFrame;
-  s.w.packet(s.seq++, pts, false);
-  s.w.packet(s.seq++, pts, false);
+  s.w.packet(s.seq++, pts, false, true);
+  s.w.packet(s.seq++, pts, false, false);
   s.w.lost();
   ++s.seq;
   EXPECT_FALSE(s.w.access_unit(pts, {}).whole);

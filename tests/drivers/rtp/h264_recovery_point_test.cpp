@@ -211,5 +211,20 @@ TEST(H264RecoveryPoint, MalformedInputIsRefusedWithoutReadingPastIt) {
     scan_h264_access_unit(std::span<const uint8_t>(whole.data(), n), H264Framing::kAvc);
 }
 
+TEST(H264RecoveryPoint, WhichRtpPayloadsBeginAPicture) {
+  EXPECT_TRUE(h264_payload_starts_picture(Bytes{0x09, 0x30}));                    // AUD
+  EXPECT_TRUE(h264_payload_starts_picture(Bytes{0x67, 0x42}));                    // SPS
+  EXPECT_TRUE(h264_payload_starts_picture(Bytes{0x06, 0x06, 0x02}));              // SEI
+  EXPECT_TRUE(h264_payload_starts_picture(Bytes{0x41, 0x9a, 0x00}));              // slice, mb 0
+  EXPECT_FALSE(h264_payload_starts_picture(Bytes{0x41, 0x20, 0x00}));             // slice, mb > 0
+  EXPECT_TRUE(h264_payload_starts_picture(Bytes{0x18, 0x00, 0x02, 0x09, 0x30}));  // STAP-A: AUD
+  EXPECT_TRUE(h264_payload_starts_picture(Bytes{0x7c, 0x85, 0x88, 0x84}));        // FU-A S, IDR
+  EXPECT_FALSE(h264_payload_starts_picture(Bytes{0x7c, 0x05, 0x88, 0x84}));       // FU-A middle
+  EXPECT_FALSE(h264_payload_starts_picture(Bytes{0x5c, 0x81, 0x20}));  // FU-A S, slice mb > 0
+  EXPECT_FALSE(h264_payload_starts_picture(Bytes{}));
+  EXPECT_FALSE(h264_payload_starts_picture(Bytes{0x18, 0x00}));  // STAP-A cut short
+  EXPECT_FALSE(h264_payload_starts_picture(Bytes{0x41}));        // a slice without its header
+}
+
 }  // namespace
 }  // namespace hd::drivers
