@@ -75,8 +75,8 @@ int main(int argc, char** argv) {
   app.add_flag("--intra-refresh", intra_refresh,
                "x264enc intra refresh: no IDR after the first, even on a PLI; a column of intra "
                "blocks sweeps each picture once per --key-interval-s instead, so "
-               "a loss heals within that time without a key frame's burst (the station detects "
-               "it from the stream's recovery points)");
+               "a loss heals by the end of the next whole sweep without a key frame's burst, if "
+               "no other loss hits it (the station detects it from the stream's recovery points)");
   bool full_rate = false;
   app.add_flag("--full-rate", full_rate,
                "ignore the station's view feedback and send every camera at full rate (by "
