@@ -45,7 +45,9 @@ void H264HealWatch::lost() {
 H264HealWatch::Verdict H264HealWatch::access_unit(uint64_t pts, const H264AccessUnitInfo& info) {
   Verdict v;
   const bool intact = !broken(pts) && !info.malformed;
-  if (info.recovery_frame_cnt && !info.idr)
+  // Only an intact access unit's recovery point says how the sender heals: a damaged one (a
+  // fuzzed stream's) would switch a stream that heals by IDR off its key-frame requests.
+  if (intact && info.recovery_frame_cnt && !info.idr)
     refresh_frames_ = static_cast<int>(std::min<uint32_t>(*info.recovery_frame_cnt, 65535) + 1);
   if (!intact) {
     damaged_ = true;
