@@ -12,6 +12,7 @@
 #include "drivers/gobject_ptr.h"
 #include "drivers/rtp/gstreamer_init.h"
 #include "drivers/rtp/h264_payload.h"
+#include "drivers/rtp/h264_recovery_point.h"
 #include "drivers/rtp/rtp_receive_pipeline.h"
 
 namespace hd::drivers {
@@ -242,11 +243,13 @@ GstPadProbeReturn RtpCamera::on_decrypted(GstBuffer* buffer) {
 // The depayloader's input, after the jitter buffer. Packets again after a stall (a cut link, a
 // sender that paused): the frames in between are gone, so ask the sender for a key frame at once
 // instead of waiting for its next one. A jitter buffer that resynchronises after a long gap
-// reports no loss, so the depayloader would not.
+// reports no loss, so the depayloader would not. Not for a stream that heals by intra refresh: its
+// frames are withheld for up to two sweeps after a loss (a stall, while packets flow), and
+// x264enc answers with another sweep, not an IDR.
 void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
   counters_.packets_depayloaded.fetch_add(1, std::memory_order_relaxed);
   if (state_.load(std::memory_order_acquire) == SourceState::kStalled &&
-      counters_.frames_published.load(std::memory_order_relaxed) > 0 &&
+      !heal_.heals_by_refresh() && counters_.frames_published.load(std::memory_order_relaxed) > 0 &&
       !key_frame_requested_.exchange(true, std::memory_order_acq_rel)) {
     counters_.key_frame_requests.fetch_add(1, std::memory_order_relaxed);
     gst_pad_push_event(pad,
@@ -262,6 +265,7 @@ void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
   const bool parsed =
       parse_rtp_packet(std::span<const uint8_t>(map.data, map.size), view) == RtpPacketError::kNone;
   const bool extended = parsed && view.has_extension;  // else a plain sender: nothing to read
+  const bool starts_picture = parsed && h264_payload_starts_picture(view.payload);
   if (extended) {
     e = read_frame_stamp(view, stamp);
     ce = read_packet_calibration(view, stamp.camera, calibration);
@@ -284,15 +288,18 @@ void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
   stamper_.add_packet(GST_CLOCK_TIME_IS_VALID(pts) ? std::optional<uint64_t>(pts) : std::nullopt,
                       wire_sequence(view.sequence), stamped ? &stamp : nullptr, now);
+  heal_.packet(view.sequence, pts, view.marker, starts_picture);
 }
 
 // The depayloader's output: access units, where key frames are not delta units.
-void RtpCamera::on_access_unit(GstBuffer* buffer) {
+bool RtpCamera::on_access_unit(GstPad* pad, GstBuffer* buffer) {
   counters_.access_units.fetch_add(1, std::memory_order_relaxed);
-  if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DELTA_UNIT)) return;
+  if (!judge_access_unit(pad, buffer)) return false;
+  if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DELTA_UNIT)) return true;
   counters_.last_key_frame_capture_ns.store(stamper_.capture_of(GST_BUFFER_PTS(buffer)),
                                             std::memory_order_relaxed);
   counters_.key_frames.fetch_add(1, std::memory_order_release);
+  return true;
 }
 
 void RtpCamera::on_decoded(GstBuffer* buffer) {
@@ -327,6 +334,10 @@ void RtpCamera::on_sample(GstElement* sink) {
     return;
   }
   format_watch_.restored(now, FormatEventCause::kFrame, expected);
+  if (!whole_picture(GST_BUFFER_PTS(buffer))) {  // a part of it, or of its references, is missing
+    counters_.frames_damaged.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
   GstVideoFrame vf;
   if (!gst_video_frame_map(&vf, &info, buffer, GST_MAP_READ)) return;
   Frame& slot = mailbox_->write_slot();

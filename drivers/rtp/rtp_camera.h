@@ -11,6 +11,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "drivers/camera_link.h"
 #include "drivers/camera_source.h"
@@ -18,6 +19,7 @@
 #include "drivers/gst/pipeline_runner.h"
 #include "drivers/rtp/clock_offset_estimator.h"
 #include "drivers/rtp/frame_end_requester.h"
+#include "drivers/rtp/h264_heal_watch.h"
 #include "drivers/rtp/jitter_budget.h"
 #include "drivers/rtp/rtp_calibration_cache.h"
 #include "drivers/rtp/rtp_camera_stats.h"
@@ -168,7 +170,12 @@ class RtpCamera final : public CameraSource, public CameraLink {
   GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
   GstPadProbeReturn on_decrypted(GstBuffer* buffer);
   void on_depay_packet(GstPad* pad, GstBuffer* buffer);
-  void on_access_unit(GstBuffer* buffer);
+  bool on_access_unit(GstPad* pad, GstBuffer* buffer);  // false: drop it
+  // Healing after a loss (rtp_camera_heal.cpp): the depayloader's lost events, each access
+  // unit's verdict (and a PLI when refresh does not heal), and a decoded frame's verdict.
+  void on_packet_lost();
+  bool judge_access_unit(GstPad* pad, GstBuffer* buffer);  // false: drop it
+  bool whole_picture(uint64_t pts) const;
   void on_rtcp_into_rtpbin(GstBuffer* buffer);
   void on_rtcp_from_sender(GstBuffer* buffer);
   void set_feedback_target(GstBuffer* buffer, bool from_rtcp);
@@ -222,6 +229,12 @@ class RtpCamera final : public CameraSource, public CameraLink {
   // Set when a stalled camera that had shown video asked for a key frame; cleared by the next
   // published frame, so each outage asks once (more come from the depayloader on every loss).
   std::atomic<bool> key_frame_requested_{false};
+  // Streaming thread (the decode queue's: depayloader, decoder and appsink run in it); reset by
+  // wire() for each pipeline. The verdicts of the newest access units by PTS, for their decoded
+  // frames (the decoder outputs each within a frame or two: no B-frames, one thread).
+  H264HealWatch heal_;
+  std::array<std::pair<uint64_t, bool>, 16> verdicts_{};
+  std::size_t verdict_next_ = 0;
   SpscRing<RtpFrameTiming, 1024> timings_;
   FormatWatch format_watch_;            // streaming thread; the station pops its events
   mutable ReceiveSocketWatch sockets_;  // measured from const stats() too: it locks itself

@@ -41,6 +41,9 @@ RtpCameraStats RtpCameraCounters::snapshot(bool srtp) const {
   s.jitter_lost = jitter_lost.load(relaxed);
   s.fec_recovered = fec_recovered.load(relaxed);
   s.access_units = access_units.load(relaxed);
+  s.frames_damaged = frames_damaged.load(relaxed);
+  s.refresh_frames = refresh_frames.load(relaxed);
+  s.heals_by_refresh = s.refresh_frames > 0;
   return s;
 }
 

@@ -97,13 +97,24 @@ struct RtpCameraStats {
   double repair_round_trip_ms = 0.0;
   uint64_t frame_end_requests = 0;
   /// Packets the jitter buffer gave up on (its GstRTPPacketLost events, do-lost): each one a
-  /// frame not shown, and the frames after it up to the next key frame.
+  /// frame not shown, and the frames after it until the stream heals (frames_damaged).
   uint64_t jitter_lost = 0;
   /// Of the packets the jitter buffer gave up on, those rebuilt from FEC (not in jitter_lost).
   uint64_t fec_recovered = 0;
-  /// Access units out of the depayloader (frames whole enough to decode; after a loss it drops
-  /// the frames up to the next key frame, which it asks for).
+  /// Access units out of the depayloader (it drops a fragment without its start; what follows a
+  /// loss is judged by the camera: frames_damaged).
   uint64_t access_units = 0;
+  /// Frames of a damaged stream (drivers/rtp/h264_heal_watch.h: after a loss, until an intact
+  /// IDR, or a recovery point's recovery_frame_cnt intact frames later): a part of the picture is
+  /// missing or predicted from a missing part. Never published, only counted: access units
+  /// dropped before the decoder (a stream that heals only by IDR) and decoded frames not shown
+  /// (one that heals by refresh, whose damaged frames the decoder conceals and the sweep needs).
+  uint64_t frames_damaged = 0;
+  /// The stream carries recovery point SEIs outside IDRs (a sender with intra refresh): no key
+  /// frame is asked for after a loss (x264enc would answer with another sweep, not an IDR).
+  /// refresh_frames: the newest recovery_frame_cnt + 1, the frames a sweep takes.
+  bool heals_by_refresh = false;
+  int refresh_frames = 0;
 };
 
 /// The counts RtpCamera's threads keep (each counter written by one thread, read by any:
@@ -128,6 +139,8 @@ struct RtpCameraCounters {
   std::atomic<uint64_t> jitter_too_late{0}, jitter_over_latency{0};
   std::atomic<uint64_t> packets_depayloaded{0}, frames_decoded{0}, frames_converted{0};
   std::atomic<uint64_t> frames_arrived{0}, jitter_lost{0}, access_units{0}, fec_recovered{0};
+  std::atomic<uint64_t> frames_damaged{0};
+  std::atomic<int> refresh_frames{0};  ///< 0 until a recovery point SEI outside an IDR was seen
   std::atomic<uint64_t> nacks_sent_at_once{0}, plis_sent_at_once{0};
 
   void count(RtpPacketError e) {

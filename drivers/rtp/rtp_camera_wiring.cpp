@@ -37,6 +37,8 @@ GstBusSyncReply count_jitter_drops(GstBus*, GstMessage* m, gpointer data) {
 }  // namespace
 
 void RtpCamera::wire(PipelineRunner& p) {
+  heal_ = H264HealWatch{};  // a new pipeline's stream starts unhealed (no streaming thread yet)
+  verdicts_.fill({GST_CLOCK_TIME_NONE, false});
   {  // a new pipeline's multiudpsink has no destination yet
     std::lock_guard lock(feedback_mutex_);
     feedback_to_.clear();
@@ -157,21 +159,22 @@ void RtpCamera::wire(PipelineRunner& p) {
         return GST_PAD_PROBE_OK;
       },
       this);
-  p.probe(  // the packets the jitter buffer gave up on (do-lost): counted
+  p.probe(  // the packets the jitter buffer gave up on (do-lost): counted, the stream damaged
       rtp_elements::kDepayloader, "sink",
       [](GstPad*, GstPadProbeInfo* info, gpointer self) {
         const GstEvent* e = GST_PAD_PROBE_INFO_EVENT(info);
         if (GST_EVENT_TYPE(e) == GST_EVENT_CUSTOM_DOWNSTREAM &&
             gst_event_has_name(const_cast<GstEvent*>(e), "GstRTPPacketLost"))
-          camera(self).counters_.jitter_lost.fetch_add(1, std::memory_order_relaxed);
+          camera(self).on_packet_lost();
         return GST_PAD_PROBE_OK;
       },
       this, GST_PAD_PROBE_TYPE_EVENT_DOWNSTREAM);
   p.probe(
       rtp_elements::kDepayloader, "src",
-      [](GstPad*, GstPadProbeInfo* info, gpointer self) {
-        camera(self).on_access_unit(GST_PAD_PROBE_INFO_BUFFER(info));
-        return GST_PAD_PROBE_OK;
+      [](GstPad* pad, GstPadProbeInfo* info, gpointer self) {
+        return camera(self).on_access_unit(pad, GST_PAD_PROBE_INFO_BUFFER(info))
+                   ? GST_PAD_PROBE_OK
+                   : GST_PAD_PROBE_DROP;
       },
       this);
   p.probe(

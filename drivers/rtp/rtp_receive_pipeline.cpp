@@ -29,8 +29,8 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
   std::string d;
   d += std::string("rtpbin name=") + kRtpBin + " latency=" + std::to_string(initial_latency_ms(c)) +
        " do-retransmission=" + (c.retransmission ? "true" : "false") +
-       // A packet given up on is a GstRTPPacketLost event: the depayloader asks for a key frame
-       // at once (PLI) instead of waiting for the next one.
+       // A packet given up on is a GstRTPPacketLost event: the camera marks the stream damaged
+       // and, unless it heals by intra refresh, asks for a key frame at once (PLI).
        " do-lost=true" +
        // AVPF (RFC 4585): NACK and PLI leave as early feedback, not at the next regular report.
        " rtp-profile=avpf ";
@@ -87,8 +87,9 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c) {
 }
 
 std::string depayloader_description() {
-  return std::string("rtph264depay name=") + rtp_elements::kDepayloader +
-         " request-keyframe=true wait-for-keyframe=true";
+  // Neither waits for nor asks for a key frame after a loss: RtpCamera judges each access unit
+  // (h264_heal_watch.h) and asks itself, also for a stream that heals by intra refresh.
+  return std::string("rtph264depay name=") + rtp_elements::kDepayloader;
 }
 
 std::string decoder_description() {

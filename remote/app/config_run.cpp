@@ -75,6 +75,7 @@ int run_config(const std::string& config_file, double seconds, const std::atomic
     sc.rate_hz = cc.rate_hz;
     sc.bitrate_kbps = cc.bitrate_kbps;
     sc.key_interval_s = cc.key_interval_s;
+    sc.intra_refresh = cc.intra_refresh;
     sc.encoder = encoder.element;
     sc.camera_index = static_cast<uint8_t>(i);
     sc.calibration_revision = 1;  // the file's, fixed for the run
@@ -91,13 +92,15 @@ int run_config(const std::string& config_file, double seconds, const std::atomic
     }
     const Eigen::Vector3d& c = cc.T_world_cam.t;
     std::printf(
-        "  camera %zu %-10s %s: %s -> rtp://%s:%d (RTCP %d): %s %d kbit/s, key frame every %d "
+        "  camera %zu %-10s %s: %s -> rtp://%s:%d (RTCP %d): %s %d kbit/s, %s every %d "
         "frames, at %g Hz; calibration: from file %s (revision 1, sent with every frame in the "
         "calibration element, %zu bytes), centre (%.2f, %.2f, %.2f) m\n",
         i, cc.name.c_str(), cc.id.c_str(),
         got.delivered.known() ? drivers::format_text(got.delivered).c_str()
                               : drivers::size_text(cc.p_c.width, cc.p_c.height).c_str(),
         sc.host.c_str(), sc.port, sc.port + 1, sc.encoder.c_str(), sc.bitrate_kbps,
+        sc.intra_refresh ? "intra refresh (no IDR after the first, a PLI starts a sweep): a sweep"
+                         : "key frame",
         sc.key_int_frames(), sc.rate_hz, cc.calibration_file.c_str(),
         drivers::calibration_element_size(cc.p_c.distortion_count), c.x(), c.y(), c.z());
     cameras.push_back(std::move(cam));

@@ -63,8 +63,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(50, 100000));
   app.add_option("--key-interval-s", key_interval_s,
-                 "a key frame (with SPS/PPS) at least this often: how soon a station that "
-                 "joins or loses packets shows video again")
+                 "a key frame (with SPS/PPS), or with --intra-refresh a refresh sweep, at least "
+                 "this often: how soon a station that joins or loses packets shows video again")
       ->capture_default_str()
       ->check(CLI::Range(0.05, 10.0));
   bool no_rtx = false;
@@ -77,6 +77,12 @@ int main(int argc, char** argv) {
                  "station rebuilds a lost packet without asking (0: none)")
       ->capture_default_str()
       ->check(CLI::Range(0, 100));
+  bool intra_refresh = false;
+  app.add_flag("--intra-refresh", intra_refresh,
+               "x264enc intra refresh: no IDR after the first, even on a PLI; a column of intra "
+               "blocks sweeps each picture once per --key-interval-s instead, so "
+               "a loss heals by the end of the next whole sweep without a key frame's burst, if "
+               "no other loss hits it (the station detects it from the stream's recovery points)");
   bool full_rate = false;
   app.add_flag("--full-rate", full_rate,
                "ignore the station's view feedback and send every camera at full rate (by "
@@ -157,6 +163,7 @@ int main(int argc, char** argv) {
     c.srtp_key = key;
     c.retransmission = !no_rtx;
     c.fec_percentage = fec_percentage;
+    c.intra_refresh = intra_refresh;
     c.follow_view = !full_rate;
     std::unique_ptr<hd::remote::RtpSender> s;
     try {
@@ -168,13 +175,15 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "  camera %zu %-10s %dx%d at %g Hz -> rtp://%s:%d (RTCP %d): x264enc (software; "
-        "zerolatency, ultrafast, no B-frames, key frame every %d frames, VBV %d ms = one frame, "
+        "zerolatency, ultrafast, no B-frames, %s every %d frames, VBV %d ms = one frame, "
         "%d kbit/s), rtph264pay, rtpbin (%s%s); per packet: ntp-64 capture time (CLOCK_REALTIME: "
         "the "
         "station maps it exactly on one host, else as well as the hosts' clocks agree) and "
         "camera-state (index %zu, calibration revision %u); with every frame: p_c and P_c "
         "(calibration element, %zu bytes)\n",
         i, sc.name.c_str(), c.width_px, c.height_px, c.rate_hz, c.host.c_str(), c.port, c.port + 1,
+        c.intra_refresh ? "intra refresh (no IDR after the first, a PLI starts a sweep): a sweep"
+                        : "key frame",
         c.key_int_frames(), c.vbv_buffer_ms(), c.bitrate_kbps,
         c.retransmission ? ("RTX: NACKed packets of the last " + std::to_string(c.rtx_history_ms) +
                             " ms sent again, payload type " + std::to_string(c.rtx_payload_type))

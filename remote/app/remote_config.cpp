@@ -12,7 +12,7 @@ using config::Range;
 using config::YamlFields;
 
 RemoteCameraConfig read_camera(const YamlFields& f, std::size_t index, const RemoteConfig& all,
-                               int bitrate_kbps, double key_interval_s) {
+                               int bitrate_kbps, double key_interval_s, bool intra_refresh) {
   RemoteCameraConfig c;
   c.line = f.line();
   c.name = f.optional_string("name", "camera" + std::to_string(index));
@@ -35,6 +35,7 @@ RemoteCameraConfig read_camera(const YamlFields& f, std::size_t index, const Rem
   c.rate_hz = f.optional_double("rate_hz", 30.0, Range::closed(1.0, 240.0));
   c.bitrate_kbps = f.optional_int("bitrate_kbps", bitrate_kbps, Range::closed(50, 100000));
   c.key_interval_s = f.optional_double("key_interval_s", key_interval_s, Range::closed(0.05, 10.0));
+  c.intra_refresh = f.optional_bool("intra_refresh", intra_refresh);
   f.finish();
   calib::CalibrationFile cal;
   try {
@@ -60,6 +61,7 @@ RemoteConfig read_remote(const YamlFields& root) {
   const int bitrate = root.optional_int("bitrate_kbps", 4000, Range::closed(50, 100000));
   const double key_interval =
       root.optional_double("key_interval_s", 0.5, Range::closed(0.05, 10.0));
+  const bool intra_refresh = root.optional_bool("intra_refresh", false);
   if (auto k = root.optional_path("key_file")) {
     try {
       drivers::read_srtp_key_file(*k);  // refused now, with the file's line, not at start
@@ -71,7 +73,7 @@ RemoteConfig read_remote(const YamlFields& root) {
   const std::vector<YamlFields> cams = root.required_list("cameras", 1);
   if (cams.size() > 255) root.fail("cameras", "at most 255 cameras (the camera index is a byte)");
   for (std::size_t i = 0; i < cams.size(); ++i)
-    r.cameras.push_back(read_camera(cams[i], i, r, bitrate, key_interval));
+    r.cameras.push_back(read_camera(cams[i], i, r, bitrate, key_interval, intra_refresh));
   root.finish();
   return r;
 }

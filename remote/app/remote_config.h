@@ -24,6 +24,7 @@ struct RemoteCameraConfig {
   double rate_hz = 30.0;         ///< frames per second the stream is encoded for
   int bitrate_kbps = 4000;
   double key_interval_s = 0.5;
+  bool intra_refresh = false;  ///< x264enc intra refresh (RtpSendConfig::intra_refresh)
   int line = 0;
 };
 

@@ -61,7 +61,7 @@ std::string h264_encoder_input_format(const std::string& element) {
 }
 
 std::string h264_encoder_description(const std::string& element, int bitrate_kbps,
-                                     int key_int_frames, int vbv_buffer_ms) {
+                                     int key_int_frames, int vbv_buffer_ms, bool intra_refresh) {
   const std::string rate = std::to_string(bitrate_kbps), gop = std::to_string(key_int_frames);
   if (element == "vah264enc")
     return "vah264enc name=enc rate-control=cbr bitrate=" + rate + " key-int-max=" + gop +
@@ -77,7 +77,8 @@ std::string h264_encoder_description(const std::string& element, int bitrate_kbp
            " gop-size=" + gop + " b-frames=0";
   return std::string(kSoftwareH264Encoder) +
          " name=enc tune=zerolatency speed-preset=ultrafast bframes=0 key-int-max=" + gop +
-         " vbv-buf-capacity=" + std::to_string(vbv_buffer_ms) + " bitrate=" + rate;
+         " vbv-buf-capacity=" + std::to_string(vbv_buffer_ms) + " bitrate=" + rate +
+         (intra_refresh ? " intra-refresh=true" : "");
 }
 
 H264EncoderChoice choose_h264_encoder(const std::string& wanted) {

@@ -14,9 +14,11 @@ inline constexpr const char* kSoftwareH264Encoder = "x264enc";
 
 /// The encoder part of a send pipeline for `element` ("name=enc" and its low-latency settings:
 /// no B-frames, a key frame every key_int_frames, constant bitrate; x264enc also tune=zerolatency,
-/// speed-preset=ultrafast and a VBV of one frame) and the raw format it is given.
+/// speed-preset=ultrafast and a VBV of one frame) and the raw format it is given. intra_refresh:
+/// x264enc intra-refresh=true (key_int_frames is then the refresh period); ignored by others.
 std::string h264_encoder_description(const std::string& element, int bitrate_kbps,
-                                     int key_int_frames, int vbv_buffer_ms);
+                                     int key_int_frames, int vbv_buffer_ms,
+                                     bool intra_refresh = false);
 std::string h264_encoder_input_format(const std::string& element);  ///< "I420" or "NV12"
 
 struct H264EncoderChoice {

@@ -24,6 +24,16 @@ struct RtpSendConfig {
   /// A key frame (IDR, with SPS/PPS) at least this often: a station that joins late, or after
   /// a link cut, decodes within this time even without asking (x264enc key-int-max).
   double key_interval_s = 0.5;
+  /// x264enc intra-refresh: after the first IDR no other comes; instead a column of intra
+  /// macroblocks sweeps the picture once every key_interval_s (key-int-max frames), each sweep
+  /// starting with a recovery point SEI (and SPS/PPS). A loss then heals within the next whole
+  /// sweep, in frames no bigger than the others, where an IDR comes as a burst several times a
+  /// P-frame's size. The station detects it (drivers/rtp/h264_heal_watch.h). A PLI (or the view
+  /// feedback's forced key frame) gets no IDR either: gstx264enc then calls
+  /// x264_encoder_intra_refresh, which starts a sweep after the current one (measured in
+  /// tests/remote/remote_intra_refresh_test.cpp), so the station sends none. x264enc only: the
+  /// hardware encoders' settings differ, so send_pipeline_description refuses others.
+  bool intra_refresh = false;
   int payload_type = 96;
   /// RTX (RFC 4588): the last rtx_history_ms of packets are kept (rtprtxsend, rtpbin's aux
   /// sender) and a packet the station NACKs is sent again on its own SSRC with

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "drivers/rtp/srtp_elements.h"
 #include "remote/sender/h264_encoder.h"
@@ -30,8 +31,11 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
        std::to_string(c.width_px) + ",height=" + std::to_string(c.height_px) +
        ",framerate=" + std::to_string(fps_n) + "/1000 ";
   d += "! videoconvert ! video/x-raw,format=" + h264_encoder_input_format(c.encoder) + " ";
+  if (c.intra_refresh && c.encoder != kSoftwareH264Encoder)
+    throw std::invalid_argument("intra refresh needs x264enc, not " + c.encoder);
   d += "! " +
-       h264_encoder_description(c.encoder, c.bitrate_kbps, c.key_int_frames(), c.vbv_buffer_ms()) +
+       h264_encoder_description(c.encoder, c.bitrate_kbps, c.key_int_frames(), c.vbv_buffer_ms(),
+                                c.intra_refresh) +
        " ";
   d += std::string("! rtph264pay name=") + kPayloader +
        " config-interval=-1 pt=" + std::to_string(c.payload_type) +

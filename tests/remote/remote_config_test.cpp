@@ -144,6 +144,22 @@ TEST(RemoteConfig, TheShippedExampleReads) {
   EXPECT_EQ(c.encoder, "auto");
 }
 
+TEST(RemoteConfig, IntraRefreshIsOffByDefaultSetForAllAndPerCamera) {
+  const std::string cams =
+      "cameras:\n"
+      "  - {id: mock, calibration: ../scenes/station-mock/cam0.yaml, to: rtp://127.0.0.1:5600}\n"
+      "  - {id: mock, calibration: ../scenes/station-mock/cam1.yaml, to: rtp://127.0.0.1:5602,\n"
+      "     intra_refresh: false}\n";
+  const std::string file = std::string(hd::test::source_dir()) + "/remote/test.yaml";
+  const RemoteConfig off = parse_remote_config(cams, file);
+  EXPECT_FALSE(off.cameras[0].intra_refresh);
+  const RemoteConfig on = parse_remote_config("intra_refresh: true\n" + cams, file);
+  EXPECT_TRUE(on.cameras[0].intra_refresh);
+  EXPECT_FALSE(on.cameras[1].intra_refresh);  // the camera's own setting
+  EXPECT_NE(std::string(refusal("intra_refresh: 3\n" + cams).what()).find("intra_refresh"),
+            std::string::npos);
+}
+
 TEST(RemoteConfig, TheProgramRefusesABadFileWithExitCode2) {
   const fs::path f = fs::temp_directory_path() / "remote_config_test_bad.yaml";
   std::ofstream(f) << "cameras:\n  - id: mock\n    to: nowhere\n";
