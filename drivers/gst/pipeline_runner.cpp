@@ -84,10 +84,19 @@ void PipelineRunner::stop() {
   if (GstElement* p = raw()) gst_element_set_state(p, GST_STATE_NULL);
 }
 
+// The mutex only guards taking a reference: the lookup takes every element's object lock in
+// turn, and a streaming thread that holds a GStreamer lock may call find() too (a pad probe).
+// Looked up under the mutex, a caller waiting for an element's lock held the mutex against it:
+// the network camera's stats() and the jitter buffer's timer thread (its NACK probe) deadlocked
+// so, with the CPUs busy.
 GstElementPtr PipelineRunner::find(const char* name) const {
-  std::lock_guard lock(mutex_);
-  if (!pipeline_ || !GST_IS_BIN(pipeline_.get())) return nullptr;
-  return GstElementPtr(gst_bin_get_by_name(GST_BIN(pipeline_.get()), name));
+  GstElementPtr pipeline;
+  {
+    std::lock_guard lock(mutex_);
+    if (!pipeline_ || !GST_IS_BIN(pipeline_.get())) return nullptr;
+    pipeline.reset(GST_ELEMENT(gst_object_ref(pipeline_.get())));
+  }
+  return GstElementPtr(gst_bin_get_by_name(GST_BIN(pipeline.get()), name));
 }
 
 GstElementPtr PipelineRunner::element(const char* name) const {

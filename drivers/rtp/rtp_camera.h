@@ -16,6 +16,7 @@
 #include "drivers/camera_link.h"
 #include "drivers/camera_source.h"
 #include "drivers/format_watch.h"
+#include "drivers/gobject_ptr.h"
 #include "drivers/gst/pipeline_runner.h"
 #include "drivers/rtp/clock_offset_estimator.h"
 #include "drivers/rtp/frame_end_requester.h"
@@ -223,6 +224,12 @@ class RtpCamera final : public CameraSource, public CameraLink {
   std::mutex feedback_mutex_;
   std::string feedback_to_;  // feedback_mutex_: where feedback goes now ("" none yet)
   std::atomic<bool> feedback_known_{false};
+  // feedback_mutex_: what send_feedback() sends through, taken when the pipeline is wired (the
+  // RTCP udpsrc, whose socket it uses, and rtpbin's internal session 0, whose SSRC it signs
+  // with). It runs in the jitter buffer's timer thread (a NACK) and the decoder's (a PLI), which
+  // may hold GStreamer locks there: looking elements up in the pipeline from them deadlocked.
+  GstElementPtr feedback_source_;
+  GObjectPtr<GObject> feedback_session_;
   double nack_tokens_ = 64.0;  // feedback_mutex_: immediate NACKs allowed now
   int64_t nack_tokens_ns_ = 0, last_pli_ns_ = 0;
   std::atomic<uint32_t> media_ssrc_{0};  // the stream's SSRC (for an immediate PLI)

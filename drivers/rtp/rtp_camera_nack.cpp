@@ -64,24 +64,20 @@ bool RtpCamera::feedback_allowed(bool pli) {
 bool RtpCamera::send_feedback(uint32_t media_ssrc, std::optional<uint16_t> nack_sequence) {
   std::string host;
   int port = 0;
+  GstElementPtr src;
+  GObjectPtr<GObject> session;
   {
     std::lock_guard lock(feedback_mutex_);
     const std::size_t colon = feedback_to_.rfind(':');
     if (colon == std::string::npos) return false;  // no sender heard yet
     host = feedback_to_.substr(0, colon);
     port = std::stoi(feedback_to_.substr(colon + 1));
+    if (!feedback_source_ || !feedback_session_) return false;
+    src.reset(GST_ELEMENT(gst_object_ref(feedback_source_.get())));
+    session.reset(G_OBJECT(g_object_ref(feedback_session_.get())));
   }
-  const GstElementPtr src = pipeline_.find(rtp_elements::kRtcpSource);
-  const GstElementPtr rtpbin = pipeline_.find(rtp_elements::kRtpBin);
-  if (!src || !rtpbin) return false;
   guint own_ssrc = 0;
-  {
-    GObject* session_out = nullptr;
-    g_signal_emit_by_name(rtpbin.get(), "get-internal-session", 0u, &session_out);
-    const GObjectPtr<GObject> session(session_out);
-    if (!session) return false;
-    g_object_get(session.get(), "internal-ssrc", &own_ssrc, nullptr);
-  }
+  g_object_get(session.get(), "internal-ssrc", &own_ssrc, nullptr);
   GstBuffer* buffer = gst_rtcp_buffer_new(128);
   GstRTCPBuffer rtcp = GST_RTCP_BUFFER_INIT;
   gst_rtcp_buffer_map(buffer, GST_MAP_READWRITE, &rtcp);

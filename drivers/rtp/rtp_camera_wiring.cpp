@@ -39,12 +39,16 @@ GstBusSyncReply count_jitter_drops(GstBus*, GstMessage* m, gpointer data) {
 void RtpCamera::wire(PipelineRunner& p) {
   heal_ = H264HealWatch{};  // a new pipeline's stream starts unhealed (no streaming thread yet)
   verdicts_.fill({GST_CLOCK_TIME_NONE, false});
-  {  // a new pipeline's multiudpsink has no destination yet
+  const GstElementPtr rtpbin = p.element(rtp_elements::kRtpBin);
+  {                              // a new pipeline's multiudpsink has no destination yet
+    GObject* session = nullptr;  // session 0 exists: the RTCP pads created it
+    g_signal_emit_by_name(rtpbin.get(), "get-internal-session", 0u, &session);
     std::lock_guard lock(feedback_mutex_);
     feedback_to_.clear();
     feedback_known_.store(false, std::memory_order_release);
+    feedback_source_ = p.element(rtp_elements::kRtcpSource);
+    feedback_session_.reset(session);
   }
-  const GstElementPtr rtpbin = p.element(rtp_elements::kRtpBin);
   g_signal_connect(rtpbin.get(), "new-jitterbuffer",
                    G_CALLBACK(+[](GstElement*, GstElement* jb, guint, guint, gpointer self) {
                      // Every packet it drops is a message (count_jitter_drops), one each: a

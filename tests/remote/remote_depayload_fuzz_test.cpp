@@ -28,6 +28,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -101,9 +102,12 @@ std::vector<std::vector<uint8_t>> record_stream() {
   Frame f;
   f.allocate_rgba(kWidth, kHeight);
   std::vector<std::vector<uint8_t>> packets;
-  int frames = 0;
+  // Frames are pushed until kFrames came out: x264 may hold the last few back until more come
+  // (under load it held 3 of 45, and a recording that waited for them waited for its socket's
+  // timeout). The bound only ends a sender that stopped.
+  std::atomic<int> frames{0};
   std::thread feeder([&] {
-    for (int n = 0; n < kFrames; ++n) {
+    for (int n = 0; frames.load() < kFrames && n < 20 * kFrames; ++n) {
       for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x) {
           uint8_t* p = f.data.data() + std::size_t(y) * f.stride_bytes + std::size_t(x) * 4;
@@ -118,7 +122,7 @@ std::vector<std::vector<uint8_t>> record_stream() {
     }
   });
   std::vector<uint8_t> buf(65536);
-  while (frames < kFrames - 2) {  // x264 may hold the last frames back: enough is enough
+  while (frames.load() < kFrames) {
     const ssize_t n = ::recv(in.fd, buf.data(), buf.size(), 0);
     if (n <= 0) break;
     packets.emplace_back(buf.begin(), buf.begin() + n);
@@ -379,18 +383,43 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
       first_back_ns = t;
     }
   };
-  // Polls until `done` or kHangBound (a hang, not a measurement); false on the bound.
-  auto poll_until = [&](auto done) {
+  uint64_t sent = 0, send_failed = 0;
+  // The camera's stats along the path, for a wait that ends on its bound.
+  auto path = [&] {
+    const RtpCameraStats d = cam.stats();
+    char line[512];
+    std::snprintf(
+        line, sizeof line,
+        "%llu datagrams sent, %llu counted, %llu passed on, %llu depayloaded, %llu "
+        "access units, %llu decoded, %llu converted, %llu published (%llu shown), %llu "
+        "not newer, %llu lost in the jitter buffer, %llu too late, camera %s",
+        static_cast<unsigned long long>(sent), static_cast<unsigned long long>(d.packets),
+        static_cast<unsigned long long>(d.accepted),
+        static_cast<unsigned long long>(d.packets_depayloaded),
+        static_cast<unsigned long long>(d.access_units),
+        static_cast<unsigned long long>(d.frames_decoded),
+        static_cast<unsigned long long>(d.frames_converted),
+        static_cast<unsigned long long>(d.frames_published), static_cast<unsigned long long>(shown),
+        static_cast<unsigned long long>(d.not_newer),
+        static_cast<unsigned long long>(d.jitter_lost),
+        static_cast<unsigned long long>(d.jitter_too_late), to_string(cam.state()).data());
+    return std::string(line);
+  };
+  // Polls until `done` or kHangBound (a hang, not a measurement); false on the bound, with a
+  // failure that says what was waited for and where the path stands.
+  auto poll_until = [&](const char* what, auto done) {
     const auto bound = std::chrono::steady_clock::now() + kHangBound;
     while (!done()) {
-      if (std::chrono::steady_clock::now() >= bound) return false;
+      if (std::chrono::steady_clock::now() >= bound) {
+        ADD_FAILURE() << "waited " << kHangBound.count() << " s for " << what << ": " << path();
+        return false;
+      }
       poll();
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     return true;
   };
   Mutator m(*corpus_, 7);
-  uint64_t sent = 0, send_failed = 0;
   bool counted = true;  // every batch was counted before the next was sent
   // Sends n packets of the replay, in batches the socket buffer holds: each batch once the
   // camera has counted the one before. `frame_period`: a live sender's pace (0: as fast as the
@@ -408,7 +437,9 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
       }
       ++sent;
       if (frame_end) ++frames_sent;
-      if (sent % 16 == 0) counted = poll_until([&] { return cam.stats().packets >= sent; });
+      if (sent % 16 == 0)
+        counted = poll_until("the camera to count every datagram",
+                             [&] { return cam.stats().packets >= sent; });
       if (frame_end && frame_period.count() > 0) {
         next_frame += frame_period;
         while (std::chrono::steady_clock::now() < next_frame) {  // the sender's frame clock
@@ -417,7 +448,8 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
         }
       }
     }
-    counted = counted && poll_until([&] { return cam.stats().packets >= sent; });
+    counted = counted && poll_until("the camera to count every datagram",
+                                    [&] { return cam.stats().packets >= sent; });
   };
   send(kCameraPackets, 60, std::chrono::milliseconds(0));
   ASSERT_TRUE(counted) << "the camera stopped counting datagrams: " << cam.stats().packets << " of "
@@ -468,7 +500,8 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
     ++sent;
     if (p.size() < 2 || (p[1] & 0x80) == 0) continue;  // the marker ends a frame
     ++frames_sent;
-    counted = poll_until([&] { return cam.stats().packets >= sent; });
+    counted = poll_until("the camera to count every datagram",
+                         [&] { return cam.stats().packets >= sent; });
     if (!from_key && frame_whole && frame_key && video_again_ns != 0) {
       from_key = true;
       first_key_ns = frame_ns;
@@ -476,7 +509,7 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
     }
     if (from_key) {
       ++frames_from_key;
-      all_shown = poll_until([&] { return newest_ns >= frame_ns; });
+      all_shown = poll_until("a clean frame to be shown", [&] { return newest_ns >= frame_ns; });
       if (all_shown) ++shown_from_key;
     }
     const auto next_frame = std::chrono::steady_clock::now() + kFramePeriod;
@@ -485,7 +518,8 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
   }
-  counted = counted && poll_until([&] { return cam.stats().packets >= sent; });
+  counted = counted && poll_until("the camera to count every datagram",
+                                  [&] { return cam.stats().packets >= sent; });
   const bool video_again = video_again_ns != 0;
   // -1: no video again (printed as such; asserted below).
   const double to_video_s = video_again ? (video_again_ns - back_ns) * 1e-9 : -1.0;
