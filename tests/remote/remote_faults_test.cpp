@@ -17,6 +17,7 @@
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
+#include "remote/mailbox_watch.h"
 #include "test_paths.h"
 #include "test_wait.h"
 
@@ -35,19 +36,7 @@ std::vector<std::string> remote_to(uint16_t port, int fec_percent = 0) {
           std::to_string(fec_percent)};
 }
 
-// What a consumer (the render loop) sees while polling the mailbox each millisecond.
-struct Watch {
-  uint64_t shown = 0;
-  uint64_t older_than_shown = 0;  ///< frames presented as new that were not newer: must be 0
-  int64_t newest_ns = 0;
-  void poll(RtpCamera& cam) {
-    if (!cam.frames().fetch()) return;
-    const int64_t t = cam.frames().latest().host_timestamp_ns;
-    if (t <= newest_ns || t > monotonic_now_ns()) ++older_than_shown;
-    newest_ns = std::max(newest_ns, t);
-    ++shown;
-  }
-};
+using Watch = testing::MailboxWatch;
 
 // How a cell repairs loss: not at all (no NACK, no RTX), with NACK and RTX (the station's and
 // hybrid-remote's defaults), with ULP FEC on top (hybrid-remote --fec kFecPercent), or with FEC

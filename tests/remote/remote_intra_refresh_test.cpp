@@ -13,6 +13,7 @@
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/gst_launch_sender.h"
 #include "drivers/rtp/rtp_camera.h"
+#include "remote/mailbox_watch.h"
 #include "test_paths.h"
 #include "test_wait.h"
 
@@ -33,18 +34,7 @@ std::vector<std::string> remote_to(uint16_t port, bool intra_refresh) {
   return a;
 }
 
-// What the render loop sees, polling the mailbox: frames shown, any not newer than the last.
-struct Watch {
-  uint64_t shown = 0, older_than_shown = 0;
-  int64_t newest_ns = 0;
-  void poll(RtpCamera& cam) {
-    if (!cam.frames().fetch()) return;
-    const int64_t t = cam.frames().latest().host_timestamp_ns;
-    if (t <= newest_ns || t > monotonic_now_ns()) ++older_than_shown;
-    newest_ns = std::max(newest_ns, t);
-    ++shown;
-  }
-};
+using Watch = testing::MailboxWatch;
 
 RtpReceiveConfig camera_config(uint16_t port, double loss) {
   RtpReceiveConfig c;
