@@ -292,12 +292,13 @@ void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
 }
 
 // The depayloader's output: access units, where key frames are not delta units.
-bool RtpCamera::on_access_unit(GstPad* pad, GstBuffer* buffer) {
+bool RtpCamera::on_access_unit(GstPad* pad, GstBuffer*& buffer) {
   counters_.access_units.fetch_add(1, std::memory_order_relaxed);
   if (!judge_access_unit(pad, buffer)) return false;
+  buffer = to_decoder_pts(buffer);
   if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DELTA_UNIT)) return true;
-  counters_.last_key_frame_capture_ns.store(stamper_.capture_of(GST_BUFFER_PTS(buffer)),
-                                            std::memory_order_relaxed);
+  counters_.last_key_frame_capture_ns.store(
+      stamper_.capture_of(from_decoder_pts(GST_BUFFER_PTS(buffer))), std::memory_order_relaxed);
   counters_.key_frames.fetch_add(1, std::memory_order_release);
   return true;
 }
@@ -305,7 +306,7 @@ bool RtpCamera::on_access_unit(GstPad* pad, GstBuffer* buffer) {
 void RtpCamera::on_decoded(GstBuffer* buffer) {
   counters_.frames_decoded.fetch_add(1, std::memory_order_relaxed);
   const GstClockTime pts = GST_BUFFER_PTS(buffer);
-  if (GST_CLOCK_TIME_IS_VALID(pts)) stamper_.add_decoded(pts, monotonic_now_ns());
+  if (GST_CLOCK_TIME_IS_VALID(pts)) stamper_.add_decoded(from_decoder_pts(pts), monotonic_now_ns());
 }
 
 // The appsink's streaming thread: no allocation here once the mailbox's slots are sized.
@@ -334,8 +335,12 @@ void RtpCamera::on_sample(GstElement* sink) {
     return;
   }
   format_watch_.restored(now, FormatEventCause::kFrame, expected);
-  if (!whole_picture(GST_BUFFER_PTS(buffer))) {  // a part of it, or of its references, is missing
-    counters_.frames_damaged.fetch_add(1, std::memory_order_relaxed);
+  // A part of it, or of its references, is missing; or it is not known which access unit it is.
+  const GstClockTime pts = GST_BUFFER_PTS(buffer);
+  const uint64_t own_pts = GST_CLOCK_TIME_IS_VALID(pts) ? from_decoder_pts(pts) : pts;
+  if (const std::optional<bool> whole = whole_picture(own_pts); !whole.value_or(false)) {
+    (whole ? counters_.frames_damaged : counters_.frames_without_verdict)
+        .fetch_add(1, std::memory_order_relaxed);
     return;
   }
   GstVideoFrame vf;
@@ -352,9 +357,8 @@ void RtpCamera::on_sample(GstElement* sink) {
     std::memcpy(slot.data.data() + std::size_t(y) * slot.stride_bytes,
                 src + std::size_t(y) * src_stride, std::size_t(w) * 4);
   gst_video_frame_unmap(&vf);
-  const GstClockTime pts = GST_BUFFER_PTS(buffer);
   const RtpStampedFrame t = stamper_.frame(
-      GST_CLOCK_TIME_IS_VALID(pts) ? std::optional<uint64_t>(pts) : std::nullopt, now);
+      GST_CLOCK_TIME_IS_VALID(pts) ? std::optional<uint64_t>(own_pts) : std::nullopt, now);
   slot.calibration =
       t.stages.has_revision ? calibrations_.lookup(t.stages.revision) : FrameCalibration{};
   if (!calibrations_.fits(slot.calibration, w, h)) return;

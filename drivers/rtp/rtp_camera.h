@@ -171,12 +171,15 @@ class RtpCamera final : public CameraSource, public CameraLink {
   GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
   GstPadProbeReturn on_decrypted(GstBuffer* buffer);
   void on_depay_packet(GstPad* pad, GstBuffer* buffer);
-  bool on_access_unit(GstPad* pad, GstBuffer* buffer);  // false: drop it
+  bool on_access_unit(GstPad* pad, GstBuffer*& buffer);  // false: drop it; may replace it
+  // The PTS the decoder is given for an access unit, and back (rtp_camera_heal.cpp).
+  GstBuffer* to_decoder_pts(GstBuffer* access_unit);
+  uint64_t from_decoder_pts(uint64_t decoder_pts) const;
   // Healing after a loss (rtp_camera_heal.cpp): the depayloader's lost events, each access
   // unit's verdict (and a PLI when refresh does not heal), and a decoded frame's verdict.
   void on_packet_lost();
   bool judge_access_unit(GstPad* pad, GstBuffer* buffer);  // false: drop it
-  bool whole_picture(uint64_t pts) const;
+  std::optional<bool> whole_picture(uint64_t pts) const;   // nullopt: no verdict for pts
   void on_rtcp_into_rtpbin(GstBuffer* buffer);
   void on_rtcp_from_sender(GstBuffer* buffer);
   void set_feedback_target(GstBuffer* buffer, bool from_rtcp);
@@ -242,6 +245,11 @@ class RtpCamera final : public CameraSource, public CameraLink {
   H264HealWatch heal_;
   std::array<std::pair<uint64_t, bool>, 16> verdicts_{};
   std::size_t verdict_next_ = 0;
+  // The decoder's input PTS only ever rise (to_decoder_pts): the newest, and the access units
+  // moved on from theirs, (decoder PTS, their own).
+  uint64_t decoder_pts_ = 0;
+  std::array<std::pair<uint64_t, uint64_t>, 16> moved_pts_{};
+  std::size_t moved_next_ = 0;
   SpscRing<RtpFrameTiming, 1024> timings_;
   FormatWatch format_watch_;            // streaming thread; the station pops its events
   mutable ReceiveSocketWatch sockets_;  // measured from const stats() too: it locks itself

@@ -58,12 +58,40 @@ bool RtpCamera::judge_access_unit(GstPad* pad, GstBuffer* buffer) {
   return false;
 }
 
-bool RtpCamera::whole_picture(uint64_t pts) const {
+std::optional<bool> RtpCamera::whole_picture(uint64_t pts) const {
   for (const auto& [p, whole] : verdicts_)
     if (p == pts) return whole;
-  // No verdict: the access unit is older than the 16 newest (a decoder that far behind) or had
-  // no PTS; not known to be whole, so not shown.
-  return false;
+  // No verdict: the access unit is older than the 16 newest (a decoder that far behind), had no
+  // PTS, or the decoder put out another PTS (GstVideoDecoder holds its output PTS at the last
+  // one out while its input's go backwards); not known to be whole, so not shown.
+  return std::nullopt;
+}
+
+// GstVideoDecoder never lets its output PTS go back: a frame whose PTS is below the last one out
+// leaves with that one's (gst_video_decoder_prepare_finish_frame). One access unit whose PTS ran
+// ahead (a mutated RTP time the stream guard let through, which the jitter buffer's clock
+// estimate then followed) gave every later frame one PTS for seconds, matching no verdict or
+// stamp: 3.2 s without video was measured after the depayload fuzz. So the decoder is given PTS
+// that only rise, and the frames it puts out are mapped back.
+GstBuffer* RtpCamera::to_decoder_pts(GstBuffer* access_unit) {
+  const GstClockTime pts = GST_BUFFER_PTS(access_unit);
+  if (!GST_CLOCK_TIME_IS_VALID(pts)) return access_unit;
+  if (pts > decoder_pts_ || decoder_pts_ == 0) {
+    decoder_pts_ = pts;
+    return access_unit;
+  }
+  ++decoder_pts_;  // a nanosecond past the newest: never below it
+  moved_pts_[moved_next_] = {decoder_pts_, pts};
+  moved_next_ = (moved_next_ + 1) % moved_pts_.size();
+  access_unit = gst_buffer_make_writable(access_unit);
+  GST_BUFFER_PTS(access_unit) = decoder_pts_;
+  return access_unit;
+}
+
+uint64_t RtpCamera::from_decoder_pts(uint64_t decoder_pts) const {
+  for (const auto& [moved, own] : moved_pts_)
+    if (moved == decoder_pts) return own;
+  return decoder_pts;
 }
 
 }  // namespace hd::drivers

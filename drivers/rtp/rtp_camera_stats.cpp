@@ -39,6 +39,7 @@ RtpCameraStats RtpCameraCounters::snapshot(bool srtp) const {
   s.frames_converted = frames_converted.load(relaxed);
   s.frames_arrived = frames_arrived.load(relaxed);
   s.jitter_lost = jitter_lost.load(relaxed);
+  s.frames_without_verdict = frames_without_verdict.load(relaxed);
   s.fec_recovered = fec_recovered.load(relaxed);
   s.access_units = access_units.load(relaxed);
   s.frames_damaged = frames_damaged.load(relaxed);

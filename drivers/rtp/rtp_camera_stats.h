@@ -110,6 +110,8 @@ struct RtpCameraStats {
   /// dropped before the decoder (a stream that heals only by IDR) and decoded frames not shown
   /// (one that heals by refresh, whose damaged frames the decoder conceals and the sweep needs).
   uint64_t frames_damaged = 0;
+  /// Decoded frames whose PTS matches no judged access unit: not known to be whole, not shown.
+  uint64_t frames_without_verdict = 0;
   /// The stream carries recovery point SEIs outside IDRs (a sender with intra refresh): no key
   /// frame is asked for after a loss (x264enc would answer with another sweep, not an IDR).
   /// refresh_frames: the newest recovery_frame_cnt + 1, the frames a sweep takes.
@@ -139,7 +141,7 @@ struct RtpCameraCounters {
   std::atomic<uint64_t> jitter_too_late{0}, jitter_over_latency{0};
   std::atomic<uint64_t> packets_depayloaded{0}, frames_decoded{0}, frames_converted{0};
   std::atomic<uint64_t> frames_arrived{0}, jitter_lost{0}, access_units{0}, fec_recovered{0};
-  std::atomic<uint64_t> frames_damaged{0};
+  std::atomic<uint64_t> frames_damaged{0}, frames_without_verdict{0};
   std::atomic<int> refresh_frames{0};  ///< 0 until a recovery point SEI outside an IDR was seen
   std::atomic<uint64_t> nacks_sent_at_once{0}, plis_sent_at_once{0};
 

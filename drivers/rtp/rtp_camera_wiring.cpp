@@ -39,6 +39,8 @@ GstBusSyncReply count_jitter_drops(GstBus*, GstMessage* m, gpointer data) {
 void RtpCamera::wire(PipelineRunner& p) {
   heal_ = H264HealWatch{};  // a new pipeline's stream starts unhealed (no streaming thread yet)
   verdicts_.fill({GST_CLOCK_TIME_NONE, false});
+  decoder_pts_ = 0;
+  moved_pts_.fill({GST_CLOCK_TIME_NONE, GST_CLOCK_TIME_NONE});
   const GstElementPtr rtpbin = p.element(rtp_elements::kRtpBin);
   {                              // a new pipeline's multiudpsink has no destination yet
     GObject* session = nullptr;  // session 0 exists: the RTCP pads created it
@@ -176,9 +178,10 @@ void RtpCamera::wire(PipelineRunner& p) {
   p.probe(
       rtp_elements::kDepayloader, "src",
       [](GstPad* pad, GstPadProbeInfo* info, gpointer self) {
-        return camera(self).on_access_unit(pad, GST_PAD_PROBE_INFO_BUFFER(info))
-                   ? GST_PAD_PROBE_OK
-                   : GST_PAD_PROBE_DROP;
+        GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
+        const bool pass = camera(self).on_access_unit(pad, buffer);
+        GST_PAD_PROBE_INFO_DATA(info) = buffer;
+        return pass ? GST_PAD_PROBE_OK : GST_PAD_PROBE_DROP;
       },
       this);
   p.probe(

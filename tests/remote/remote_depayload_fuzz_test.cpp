@@ -565,11 +565,17 @@ TEST_F(DepayloadFuzz, MutatedPacketsIntoTheCameraAreCountedNoOldFrameIsShownAndV
   std::printf(
       "clean stream: %llu of its datagrams refused; since the fuzz the jitter buffer dropped %llu "
       "too late and %llu over its latency, the kernel %lld (in all), %llu packets depayloaded, "
-      "%llu frames decoded, %llu converted, %llu not newer, %llu published\n",
+      "%llu frames decoded, %llu converted, %llu not newer, %llu damaged, %llu without verdict, "
+      "%llu of another size, "
+      "%llu not fitting their calibration, %llu published\n",
       since_fuzz(&RtpCameraStats::malformed_total), since_fuzz(&RtpCameraStats::jitter_too_late),
       since_fuzz(&RtpCameraStats::jitter_over_latency), static_cast<long long>(s.kernel_drops),
       since_fuzz(&RtpCameraStats::packets_depayloaded), since_fuzz(&RtpCameraStats::frames_decoded),
       since_fuzz(&RtpCameraStats::frames_converted), since_fuzz(&RtpCameraStats::not_newer),
+      since_fuzz(&RtpCameraStats::frames_damaged),
+      since_fuzz(&RtpCameraStats::frames_without_verdict),
+      since_fuzz(&RtpCameraStats::wrong_format),
+      since_fuzz(&RtpCameraStats::calibration_size_mismatch),
       since_fuzz(&RtpCameraStats::frames_published));
   // Every datagram is counted and accounted for (refused by reason, or passed on).
   EXPECT_EQ(s.accepted + s.malformed_total, s.packets);
