@@ -174,6 +174,8 @@ RtpPacketError RtpCamera::check_stream(const RtpPacketView& view, GstBuffer* buf
   const int64_t arrival = arrival_ns(buffer);
   const RtpPacketError e = stream_guard_.check(view, arrival);
   counters_.sequence_resyncs.store(stream_guard_.resyncs(), std::memory_order_relaxed);
+  if (e == RtpPacketError::kNone && fec)
+    counters_.fec_packets.fetch_add(1, std::memory_order_relaxed);
   if (e == RtpPacketError::kNone && !fec) {
     stamper_.note_arrival(view.sequence, arrival);
     // A frame's packets share its RTP time and come together: a new time is a frame that

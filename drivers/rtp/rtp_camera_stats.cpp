@@ -41,6 +41,7 @@ RtpCameraStats RtpCameraCounters::snapshot(bool srtp) const {
   s.jitter_lost = jitter_lost.load(relaxed);
   s.frames_without_verdict = frames_without_verdict.load(relaxed);
   s.fec_recovered = fec_recovered.load(relaxed);
+  s.fec_packets = fec_packets.load(relaxed);
   s.access_units = access_units.load(relaxed);
   s.frames_damaged = frames_damaged.load(relaxed);
   s.refresh_frames = refresh_frames.load(relaxed);

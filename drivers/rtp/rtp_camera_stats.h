@@ -101,6 +101,7 @@ struct RtpCameraStats {
   uint64_t jitter_lost = 0;
   /// Of the packets the jitter buffer gave up on, those rebuilt from FEC (not in jitter_lost).
   uint64_t fec_recovered = 0;
+  uint64_t fec_packets = 0;  ///< FEC packets taken (the sender's --fec), before fault injection
   /// Access units out of the depayloader (it drops a fragment without its start; what follows a
   /// loss is judged by the camera: frames_damaged).
   uint64_t access_units = 0;
@@ -141,7 +142,7 @@ struct RtpCameraCounters {
   std::atomic<uint64_t> jitter_too_late{0}, jitter_over_latency{0};
   std::atomic<uint64_t> packets_depayloaded{0}, frames_decoded{0}, frames_converted{0};
   std::atomic<uint64_t> frames_arrived{0}, jitter_lost{0}, access_units{0}, fec_recovered{0};
-  std::atomic<uint64_t> frames_damaged{0}, frames_without_verdict{0};
+  std::atomic<uint64_t> frames_damaged{0}, frames_without_verdict{0}, fec_packets{0};
   std::atomic<int> refresh_frames{0};  ///< 0 until a recovery point SEI outside an IDR was seen
   std::atomic<uint64_t> nacks_sent_at_once{0}, plis_sent_at_once{0};
 
