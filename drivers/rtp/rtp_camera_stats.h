@@ -99,7 +99,9 @@ struct RtpCameraStats {
   /// Packets the jitter buffer gave up on (its GstRTPPacketLost events, do-lost): each one a
   /// frame not shown, and the frames after it until the stream heals (frames_damaged).
   uint64_t jitter_lost = 0;
-  /// Of the packets the jitter buffer gave up on, those rebuilt from FEC (not in jitter_lost).
+  /// Of the packets the jitter buffer gave up on, those the FEC decoder rebuilt (not in
+  /// jitter_lost): from FEC, or from a copy that came too late for the jitter buffer and that
+  /// rtpstorage, ahead of it, kept.
   uint64_t fec_recovered = 0;
   uint64_t fec_packets = 0;  ///< FEC packets taken (the sender's --fec), before fault injection
   /// Access units out of the depayloader (it drops a fragment without its start; what follows a

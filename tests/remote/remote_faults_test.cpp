@@ -215,11 +215,12 @@ TEST(RemoteFaults, LossAndJitterTableShowsTheFramesItPromisesAndNeverOldAsNew) {
         if (repair == Repair::kOff) {
           share_without = cell.share();
           EXPECT_EQ(cell.feedback.rtx_received, 0u) << where;
-          EXPECT_EQ(st.fec_recovered, 0u) << where;
           continue;
         }
+        // No FEC where none was sent (the FEC decoder may still rebuild a packet the jitter
+        // buffer gave up on from a late copy in its storage: counted in fec_recovered).
         if (repair == Repair::kRtx) {
-          EXPECT_EQ(st.fec_recovered, 0u) << where;
+          EXPECT_EQ(st.fec_packets, 0u) << where;
         }
         // With RTX alone, at 50 ms of jitter the shares are not held reliably: a retransmission
         // waits ~50 ms in netsim's queue like any packet, and some repairs come after their
@@ -254,7 +255,6 @@ TEST(RemoteFaults, FecAloneRebuildsLostPacketsWithoutAskingForThem) {
       static_cast<unsigned long long>(fec.stats.jitter_lost), fec.kbytes_per_s, off.kbytes_per_s);
   EXPECT_EQ(fec.feedback.nack_sent, 0u);
   EXPECT_EQ(fec.feedback.rtx_received, 0u);
-  EXPECT_EQ(off.stats.fec_recovered, 0u);
   // ~12 packets a frame at 5 %: ~90 lost in 150 frames, most alone in their FEC set.
   EXPECT_GE(fec.stats.fec_recovered, 20u);
   EXPECT_GT(fec.share(), off.share() + 0.10);
