@@ -1,6 +1,7 @@
 #include "drivers/rtp/clock_offset_estimator.h"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "drivers/rtp/rtp_frame_stamp.h"
 
@@ -41,6 +42,17 @@ void ClockOffsetEstimator::add_round_trip(int64_t round_trip_ns) {
   ++samples_;
 }
 
+void ClockOffsetEstimator::add_packet(int64_t capture_unix_ns, int64_t arrival_mono_ns) {
+  if (arrival_mono_ns - bound_span_start_ns_ >= kBoundSpanNs) {
+    // A new span; the current one becomes the previous, unless it is over two spans old.
+    previous_bound_ns_ =
+        arrival_mono_ns - bound_span_start_ns_ >= 2 * kBoundSpanNs ? kNoBound : bound_ns_;
+    bound_ns_ = kNoBound;
+    bound_span_start_ns_ = arrival_mono_ns;
+  }
+  bound_ns_ = std::min(bound_ns_, arrival_mono_ns - capture_unix_ns);
+}
+
 ClockMapping ClockOffsetEstimator::mapping(int64_t now_mono_ns) const {
   ClockMapping m;
   m.samples = samples_;
@@ -58,6 +70,18 @@ ClockMapping ClockOffsetEstimator::mapping(int64_t now_mono_ns) const {
   m.offset_ns = best->difference_ns - half;
   // R/2 rounded up, so that an odd round trip still bounds the error.
   m.uncertainty_ns = m.round_trip_ns - half + drift_ns;
+  // The spans as they stand at `now_mono_ns`: a bound over two spans old is dropped.
+  const int64_t span_age_ns = now_mono_ns - bound_span_start_ns_;
+  const int64_t bound = span_age_ns >= 2 * kBoundSpanNs ? kNoBound
+                        : span_age_ns >= kBoundSpanNs   ? bound_ns_
+                                                        : std::min(bound_ns_, previous_bound_ns_);
+  if (bound < m.offset_ns) {
+    // The bound may have drifted for up to two spans, towards either side.
+    m.uncertainty_ns +=
+        m.offset_ns - bound + static_cast<int64_t>(double(2 * kBoundSpanNs) * drift_ppm_ * 1e-6);
+    m.offset_ns = bound;
+    m.bounded_by_packets = true;
+  }
   return m;
 }
 

@@ -27,6 +27,9 @@ struct ClockMapping {
   int64_t uncertainty_ns = -1;  ///< -1: unknown
   uint64_t samples = 0;         ///< sender reports and round trips taken into the estimate
   int64_t round_trip_ns = -1;   ///< the smallest round trip in the window (-1 none)
+  /// The media packets' bound (see ClockOffsetEstimator) lay below the sender reports'
+  /// estimate and replaced it: the reports were delayed more than their round trip says.
+  bool bounded_by_packets = false;
 };
 const char* to_string(ClockMapping::Kind k);
 
@@ -37,9 +40,18 @@ const char* to_string(ClockMapping::Kind k);
 /// splits), plus the clocks' drift since that report (drift_ppm of its age; crystals drift
 /// 10-50 ppm, 100 by default). A report whose arrival is older than the newest one already
 /// taken is refused (counted).
+///
+/// The reports alone fail when a busy machine delays them longer than the smallest round trip
+/// of the window (seen under load on one host: mapped captures up to tens of ms after their
+/// packets arrived). Every stamped media packet bounds the offset from above, as its capture
+/// precedes its arrival: `offset <= arrival - capture`. The smallest such difference of the
+/// last one to two seconds (kBoundSpanNs; older ones may have drifted) caps the estimate. When it
+/// does, the reports were off by at least the gap, and the uncertainty grows by it.
 class ClockOffsetEstimator {
  public:
   static constexpr std::size_t kWindow = 8;
+  /// The packets' bound is kept per span of this length, the current and the previous one.
+  static constexpr int64_t kBoundSpanNs = 1'000'000'000;
 
   explicit ClockOffsetEstimator(double drift_ppm = 100.0) : drift_ppm_(drift_ppm) {}
 
@@ -47,6 +59,9 @@ class ClockOffsetEstimator {
   void add_sender_report(int64_t sender_unix_ns, int64_t arrival_mono_ns);
   /// A round trip the sender measured from this station's receiver reports (RFC 3550 A.8).
   void add_round_trip(int64_t round_trip_ns);
+  /// A stamped media packet: its capture (sender's clock, Unix ns) and its arrival here (mono
+  /// ns, the socket's stamp). Not a sample: it only bounds the offset from above.
+  void add_packet(int64_t capture_unix_ns, int64_t arrival_mono_ns);
 
   /// The estimate at `now_mono_ns` (for the drift allowance); kUnmeasured until there is at
   /// least one sender report and one round trip.
@@ -65,6 +80,9 @@ class ClockOffsetEstimator {
   std::size_t round_trip_count_ = 0, round_trip_next_ = 0;
   uint64_t samples_ = 0, refused_ = 0;
   int64_t newest_arrival_ns_ = 0;
+  // The smallest arrival - capture of the current span and of the previous one (kNoBound: none).
+  static constexpr int64_t kNoBound = INT64_MAX;
+  int64_t bound_ns_ = kNoBound, previous_bound_ns_ = kNoBound, bound_span_start_ns_ = 0;
 };
 
 /// RFC 3550 A.8: the round trip from a receiver report block, in ns: `arrival - LSR - DLSR`,

@@ -76,6 +76,10 @@ void RtpFrameStamper::add_packet(std::optional<uint64_t> pts, uint16_t sequence,
   if (!pts) return;
   const int64_t arrival = arrival_of(sequence, now_ns);
   const bool stamped = stamp != nullptr && stamp->capture_unix_ns.has_value();
+  if (stamped && arrival != 0 && clock_kind_ == RtpReceiveConfig::Clock::kMeasured) {
+    std::lock_guard lock(clock_mutex_);
+    clock_.add_packet(*stamp->capture_unix_ns, arrival);
+  }
   const ClockMapping m = stamped ? clock_mapping(now_ns) : ClockMapping{};
   std::lock_guard lock(slots_mutex_);
   RtpFrameStages& s = slot(*pts, arrival, now_ns);  // every packet: when its frame came in

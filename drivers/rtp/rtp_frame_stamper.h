@@ -75,7 +75,8 @@ class RtpFrameStamper {
   /// A packet at the depayloader at `now_ns`: `pts` its buffer time (nullopt: none, the packet
   /// only feeds the clock), `stamp` what its header extensions said (null: no valid stamp).
   /// Each packet's arrival joins its frame's; each stamp replaces the frame's earlier ones (the
-  /// frame was sent with its last packet); a new round trip in it goes to the clock estimate.
+  /// frame was sent with its last packet); a new round trip in it goes to the clock estimate, and
+  /// a stamp with an arrival bounds the measured offset (ClockOffsetEstimator::add_packet).
   void add_packet(std::optional<uint64_t> pts, uint16_t sequence, const RtpFrameStamp* stamp,
                   int64_t now_ns);
   /// The decoder put out the frame of `pts` at `now_ns`.

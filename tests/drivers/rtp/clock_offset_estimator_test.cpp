@@ -79,6 +79,53 @@ TEST(ClockOffsetEstimator, OldReportsLeaveTheWindowAndDriftWidensTheUncertainty)
   EXPECT_EQ(e.mapping(t).offset_ns, kOffset + 5 * kMs - 2 * kMs);
 }
 
+TEST(ClockOffsetEstimator, MediaPacketsCapAReportDelayedBeyondItsRoundTrip) {
+  ClockOffsetEstimator e(0.0);
+  int64_t t = 1'000 * kMs;
+  // A busy machine: the report took 30 ms although the round trip says 2 ms.
+  e.add_sender_report(t - kOffset, t + 30 * kMs);
+  e.add_round_trip(2 * kMs);
+  EXPECT_EQ(e.mapping(t).offset_ns, kOffset + 29 * kMs);
+  EXPECT_FALSE(e.mapping(t).bounded_by_packets);
+  // Frames captured 4..9 ms before they arrived: the offset is at most kOffset + 4 ms.
+  for (int64_t delay_ms : {9, 4, 6}) {
+    t += 33 * kMs;
+    e.add_packet(t - delay_ms * kMs - kOffset, t);
+  }
+  const ClockMapping m = e.mapping(t);
+  EXPECT_TRUE(m.bounded_by_packets);
+  EXPECT_EQ(m.offset_ns, kOffset + 4 * kMs);
+  // The report's own 1 ms, and the 25 ms it was shown off by.
+  EXPECT_EQ(m.uncertainty_ns, 1 * kMs + 25 * kMs);
+  EXPECT_LE(std::llabs(m.offset_ns - kOffset), m.uncertainty_ns);
+  // A bound above the reports' estimate changes nothing.
+  ClockOffsetEstimator idle(0.0);
+  idle.add_sender_report(t - kOffset, t + 1 * kMs);
+  idle.add_round_trip(2 * kMs);
+  idle.add_packet(t - 5 * kMs - kOffset, t);
+  EXPECT_EQ(idle.mapping(t).offset_ns, kOffset);
+  EXPECT_FALSE(idle.mapping(t).bounded_by_packets);
+}
+
+TEST(ClockOffsetEstimator, APacketBoundLastsOneToTwoSpans) {
+  ClockOffsetEstimator e(0.0);
+  constexpr int64_t kSpan = ClockOffsetEstimator::kBoundSpanNs;
+  int64_t t = 10'000 * kMs;
+  e.add_sender_report(t - kOffset, t + 30 * kMs);
+  e.add_round_trip(2 * kMs);
+  e.add_packet(t - 3 * kMs - kOffset, t);  // starts a span at t
+  EXPECT_EQ(e.mapping(t + kSpan - 1).offset_ns, kOffset + 3 * kMs);
+  // The next span: the first one's bound is still the previous span's.
+  e.add_packet(t + kSpan - 8 * kMs - kOffset, t + kSpan);
+  EXPECT_EQ(e.mapping(t + kSpan).offset_ns, kOffset + 3 * kMs);
+  // A third span: only the second's bound (8 ms) is left.
+  e.add_packet(t + 2 * kSpan - 10 * kMs - kOffset, t + 2 * kSpan);
+  EXPECT_EQ(e.mapping(t + 2 * kSpan).offset_ns, kOffset + 8 * kMs);
+  // No packet for two spans: no bound, the reports' estimate again.
+  EXPECT_EQ(e.mapping(t + 4 * kSpan).offset_ns, kOffset + 29 * kMs);
+  EXPECT_FALSE(e.mapping(t + 4 * kSpan).bounded_by_packets);
+}
+
 TEST(ClockOffsetEstimator, RefusesAReportArrivingBeforeTheNewestAndANegativeRoundTrip) {
   ClockOffsetEstimator e(0.0);
   e.add_sender_report(0, 5'000 * kMs);

@@ -132,6 +132,29 @@ TEST(RtpFrameStamper, ACaptureAfterItsArrivalIsReplacedByTheArrival) {
   EXPECT_EQ(f.stages.capture_mono_ns, 12 * kMs);  // what the mapping said, for the record
 }
 
+TEST(RtpFrameStamper, ADelayedSenderReportNeverPutsAMeasuredCaptureAfterItsArrival) {
+  RtpFrameStamper st(measured(), &host_offset);
+  // The sender's clock is this host's; its report took 40 ms, its round trip says 2 ms.
+  st.add_sender_report(1'000 * kMs + kHostOffset, 1'040 * kMs);
+  RtpFrameStamp rt = stamp_at(1'000 * kMs);
+  rt.stages = SenderStagesStamp{0, 0, 1, 2000};
+  st.add_packet(std::nullopt, 0, &rt, 1'040 * kMs);
+  ASSERT_EQ(st.clock_mapping(1'040 * kMs).offset_ns, -kHostOffset + 39 * kMs);
+  // Frames every 33 ms, each arriving 6 ms after its capture: each admitted, none after its
+  // arrival, each within its uncertainty of the truth.
+  for (uint16_t i = 0; i < 10; ++i) {
+    const int64_t capture = 1'100 * kMs + i * 33 * kMs;
+    const RtpFrameStamp s = stamp_at(capture);
+    st.note_arrival(i, capture + 6 * kMs);
+    st.add_packet(uint64_t(i), i, &s, capture + 7 * kMs);
+    const RtpStampedFrame f = st.frame(uint64_t(i), capture + 8 * kMs);
+    EXPECT_FALSE(f.capture_after_arrival) << "frame " << i;
+    EXPECT_LE(f.capture_ns, f.arrival_ns) << "frame " << i;
+    EXPECT_LE(std::llabs(f.capture_ns - capture), f.stages.uncertainty_ns) << "frame " << i;
+    EXPECT_TRUE(st.admit(f)) << "frame " << i;
+  }
+}
+
 TEST(RtpFrameStamper, WithoutAnArrivalStampTheLastPacketsTimeThenTheFramesOwnIsTheArrival) {
   RtpFrameStamper st(measured(), &host_offset);
   st.add_packet(8, 30, nullptr, 3 * kMs);  // retransmissions only: udpsrc's stamps unknown
