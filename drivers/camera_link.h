@@ -28,6 +28,9 @@ struct LinkReport {
   std::string clock_mapping;        ///< how the sender's clock is mapped ("measured", ...)
   int64_t clock_offset_ns = 0, clock_uncertainty_ns = -1, clock_round_trip_ns = -1;
   uint64_t clock_samples = 0, sender_reports = 0;
+  /// The sender's CLOCK_REALTIME minus this station's, and the whole mapping in words.
+  int64_t clock_sites_offset_ns = 0;
+  std::string clock_text;
   uint64_t capture_after_arrival = 0;  ///< mapped capture times after the arrival: replaced
   /// The receive path's losses before a frame could be shown (drivers/rtp/rtp_camera_stats.h):
   /// the socket's kernel buffer asked / given / the system's limit (bytes; -1 unknown), and in

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 
 #include "drivers/rtp/rtp_frame_stamp.h"
 
@@ -15,6 +16,38 @@ const char* to_string(ClockMapping::Kind k) {
       return "measured (RTCP sender reports and the sender's round trip)";
     case ClockMapping::Kind::kSynchronized:
       return "synchronized (CLOCK_REALTIME of both sites, stated error)";
+  }
+  return "unknown";
+}
+
+int64_t sites_offset_ns(const ClockMapping& m, int64_t realtime_minus_monotonic_ns) {
+  // station mono = sender unix + offset, station unix = station mono + realtime_minus_monotonic.
+  return -(m.offset_ns + realtime_minus_monotonic_ns);
+}
+
+std::string describe(const ClockMapping& m, int64_t realtime_minus_monotonic_ns) {
+  const double sites_ms = double(sites_offset_ns(m, realtime_minus_monotonic_ns)) * 1e-6;
+  const double error_ms = double(m.uncertainty_ns) * 1e-6;
+  char text[320];
+  switch (m.kind) {
+    case ClockMapping::Kind::kUnmeasured:
+      return "not measured yet (no RTCP sender report and round trip): the sender's capture "
+             "stamps are read as this host's CLOCK_REALTIME, right only on one host";
+    case ClockMapping::Kind::kMeasured:
+      std::snprintf(text, sizeof text,
+                    "sender's CLOCK_REALTIME - this station's = %+.3f ms +- %.3f ms, measured "
+                    "from %llu RTCP sender reports and round trips (smallest round trip "
+                    "%.3f ms)%s",
+                    sites_ms, error_ms, static_cast<unsigned long long>(m.samples),
+                    double(m.round_trip_ns) * 1e-6,
+                    m.bounded_by_packets ? ", capped by the media packets' arrival" : "");
+      return text;
+    case ClockMapping::Kind::kSynchronized:
+      std::snprintf(text, sizeof text,
+                    "both sites' CLOCK_REALTIME declared synchronized (chrony/PTP, or one host): "
+                    "sender's - this station's = %+.3f ms +- %.3f ms as stated, not measured",
+                    sites_ms, error_ms);
+      return text;
   }
   return "unknown";
 }

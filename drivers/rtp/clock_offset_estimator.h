@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace hd::drivers {
 
@@ -32,6 +33,12 @@ struct ClockMapping {
   bool bounded_by_packets = false;
 };
 const char* to_string(ClockMapping::Kind k);
+/// The mapping in words a user can check: which clocks, the offset between the two sites'
+/// CLOCK_REALTIME (not between two clocks of this host: `realtime_minus_monotonic_ns` is this
+/// host's), its uncertainty, and how it was measured.
+std::string describe(const ClockMapping& m, int64_t realtime_minus_monotonic_ns);
+/// The sender's CLOCK_REALTIME minus this host's, by the mapping.
+int64_t sites_offset_ns(const ClockMapping& m, int64_t realtime_minus_monotonic_ns);
 
 /// NTP's clock filter on RTCP: each sender report gives `arrival - sent = offset + d`, with d the
 /// one-way delay, 0 <= d <= the round trip. Over the newest kWindow reports the one with the

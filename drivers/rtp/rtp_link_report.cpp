@@ -30,7 +30,9 @@ LinkReport RtpCamera::link_report() const {
   r.calibration_errors = st.calibration_errors_total;
   r.last_error = st.last_error;
   r.clock_mapping = to_string(st.clock.kind);
-  if (st.clock.bounded_by_packets) r.clock_mapping += ", capped by the packets' arrival";
+  const int64_t host_offset_ns = realtime_minus_monotonic_ns();
+  r.clock_text = describe(st.clock, host_offset_ns);
+  r.clock_sites_offset_ns = sites_offset_ns(st.clock, host_offset_ns);
   r.clock_offset_ns = st.clock.offset_ns;
   r.clock_uncertainty_ns = st.clock.uncertainty_ns;
   r.clock_round_trip_ns = st.clock.round_trip_ns;

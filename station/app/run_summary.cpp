@@ -59,13 +59,8 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  n.frames_stamped, n.frames_unstamped, n.pli_sent, n.nack_sent, n.rtx_received,
                  n.fec_recovered, n.lost, n.view_feedback_sent, n.need_changes,
                  n.last_error.empty() ? "" : "; last error: ", n.last_error.c_str());
-    std::fprintf(out,
-                 "  network camera %-12s clock %s: offset %.3f ms +- %.3f ms (round trip %.3f ms,"
-                 " %" PRIu64 " samples, %" PRIu64 " sender reports), %" PRIu64
-                 " capture times after arrival\n",
-                 c.name.c_str(), n.clock_mapping.c_str(), double(n.clock_offset_ns) * 1e-6,
-                 double(n.clock_uncertainty_ns) * 1e-6, double(n.clock_round_trip_ns) * 1e-6,
-                 n.clock_samples, n.sender_reports, n.capture_after_arrival);
+    std::fprintf(out, "  network camera %-12s clock: %s; %" PRIu64 " capture times after arrival\n",
+                 c.name.c_str(), n.clock_text.c_str(), n.capture_after_arrival);
     std::fprintf(out,
                  "  network camera %-12s receive buffer %s; dropped: %s by the kernel (its buffer "
                  "full), %" PRIu64 " late and %" PRIu64
@@ -194,6 +189,8 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                        {"last_error", n.last_error}});
     nlohmann::json& last = network.back();
     last["clock"] = {{"mapping", n.clock_mapping},
+                     {"text", n.clock_text},
+                     {"sites_offset_ns", n.clock_sites_offset_ns},
                      {"offset_ns", n.clock_offset_ns},
                      {"uncertainty_ns", n.clock_uncertainty_ns},
                      {"round_trip_ns", n.clock_round_trip_ns},

@@ -135,6 +135,28 @@ TEST(ClockOffsetEstimator, RefusesAReportArrivingBeforeTheNewestAndANegativeRoun
   EXPECT_EQ(e.mapping(0).samples, 1u);
 }
 
+TEST(ClockOffsetEstimator, TheWordsGiveTheOffsetBetweenTheSitesNotBetweenTwoClocksOfThisHost) {
+  // kOffset: a sender clock 2.5 s ahead of this host's realtime, realtime - mono = 1.7e18 ns.
+  constexpr int64_t kHostRealtimeMinusMono = 1'700'000'000'000'000'000LL;
+  ClockOffsetEstimator e(0.0);
+  e.add_sender_report(10'000 * kMs - kOffset, 10'000 * kMs + 1 * kMs);
+  e.add_round_trip(2 * kMs);
+  const ClockMapping m = e.mapping(10'000 * kMs);
+  EXPECT_EQ(sites_offset_ns(m, kHostRealtimeMinusMono), 2'500 * kMs);
+  EXPECT_EQ(describe(m, kHostRealtimeMinusMono),
+            "sender's CLOCK_REALTIME - this station's = +2500.000 ms +- 1.000 ms, measured from "
+            "2 RTCP sender reports and round trips (smallest round trip 2.000 ms)");
+  ClockMapping synced;
+  synced.kind = ClockMapping::Kind::kSynchronized;
+  synced.offset_ns = -kHostRealtimeMinusMono;
+  synced.uncertainty_ns = 3 * kMs / 2;
+  EXPECT_EQ(describe(synced, kHostRealtimeMinusMono),
+            "both sites' CLOCK_REALTIME declared synchronized (chrony/PTP, or one host): "
+            "sender's - this station's = +0.000 ms +- 1.500 ms as stated, not measured");
+  EXPECT_NE(describe(ClockMapping{}, kHostRealtimeMinusMono).find("not measured yet"),
+            std::string::npos);
+}
+
 TEST(ClockOffsetEstimator, RoundTripFromAReportBlockIsArrivalMinusLsrMinusDlsr) {
   // RFC 3550 A.8's example: arrival 46864.250 s, LSR 46853.125 s, DLSR 5.250 s: 5.875 s.
   const uint32_t arrival = (46864u << 16) | 0x4000u;
