@@ -46,7 +46,10 @@ std::optional<uint64_t> FrameAccounting::admit(uint64_t frame_id) {
 }
 
 void FrameAccounting::count_gap(const FrameIdUnwrapper::Result& id) {
-  if (id.verdict == FrameIdUnwrapper::Verdict::kNext) GigeCounters::bump(counters_.id_gaps, id.gap);
+  if (id.verdict != FrameIdUnwrapper::Verdict::kNext || id.gap == 0) return;
+  GigeCounters::bump(counters_.id_gaps, id.gap);
+  // admit() counts the first good frame's gap before sequence_for() marks it: still before it.
+  if (!got_first_frame_) GigeCounters::bump(counters_.gaps_before_first_frame, id.gap);
 }
 
 uint64_t FrameAccounting::sequence_for(uint64_t camera_sequence) {

@@ -16,6 +16,7 @@ GigeStats GigeCounters::snapshot() const {
   s.reconnects = reconnects.load(std::memory_order_relaxed);
   s.reopen_attempts = reopen_attempts.load(std::memory_order_relaxed);
   s.bad_before_first_frame = bad_before_first_frame.load(std::memory_order_relaxed);
+  s.gaps_before_first_frame = gaps_before_first_frame.load(std::memory_order_relaxed);
   return s;
 }
 

@@ -33,6 +33,9 @@ struct GigeStats {
   /// Of bad_buffers, those before the first good frame of a start or reconnect (a stream that
   /// began mid-frame, or a first frame Aravis timed out while the host was busy starting).
   uint64_t bad_before_first_frame = 0;
+  /// Of id_gaps, those before the first good frame of a start or reconnect (ids skipped between
+  /// a lost first frame and the first good one).
+  uint64_t gaps_before_first_frame = 0;
 };
 
 /// GigeStats as it is counted: the stream thread adds, any thread takes a snapshot. Relaxed
@@ -49,6 +52,7 @@ struct GigeCounters {
   std::atomic<uint64_t> reconnects{0};
   std::atomic<uint64_t> reopen_attempts{0};
   std::atomic<uint64_t> bad_before_first_frame{0};
+  std::atomic<uint64_t> gaps_before_first_frame{0};
 
   /// Adds one to `counter` (relaxed: a count, not a signal to another thread).
   static void bump(std::atomic<uint64_t>& counter, uint64_t n = 1) {

@@ -52,7 +52,7 @@ const SyntheticScene& empty_scene() {
 }  // namespace
 
 CpuCompositor::CpuCompositor(int threads)
-    : threads_(std::clamp(threads, 1, 2)), rows_(threads_, RowWorker::Split::kHalves) {}
+    : threads_(threads), rows_(threads, RowWorker::Split::kBands) {}
 
 CpuCompositor::~CpuCompositor() = default;
 
@@ -75,9 +75,10 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
     inv_depth_.assign(n, 0.0f);
     synth_rgba_.assign(4 * n, 0);
     const std::size_t group = kRowGroup * static_cast<std::size_t>(req.viewport.width);
-    scratch_.assign(2 * 3 * group, 0.0f);
-    video_row_.assign(2 * group, 0u);
-    fixed_.assign(2 * 2 * group, 0);
+    const auto bands = static_cast<std::size_t>(threads_);
+    scratch_.assign(bands * 3 * group, 0.0f);
+    video_row_.assign(bands * group, 0u);
+    fixed_.assign(bands * 2 * group, 0);
   }
   req_ = &req;
   out_ = &out;

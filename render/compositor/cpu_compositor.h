@@ -18,11 +18,12 @@ namespace hd::render {
 /// bytes whatever the thread count (each row is computed by exactly one thread, the same way).
 ///
 /// Speed (see docs/rendering.md): the homography is stepped incrementally along a row, the video
-/// is sampled with 8-bit fixed-point bilinear weights, and with threads = 2 the rows are split
-/// into two bands, the lower one drawn by a persistent worker thread (RowWorker's kHalves: it
-/// waits on an atomic, no lock, no allocation per frame).
+/// is sampled with 8-bit fixed-point bilinear weights, and with N threads the rows are split
+/// into N bands, all but the first drawn by persistent worker threads (RowWorker's kBands: they
+/// wait on an atomic, no lock, no allocation per frame).
 class CpuCompositor final : public Compositor {
  public:
+  /// `threads` in 1..RowWorker::kMaxThreads, else std::invalid_argument.
   explicit CpuCompositor(int threads = 1);
   ~CpuCompositor() override;
   CpuCompositor(const CpuCompositor&) = delete;
@@ -54,7 +55,7 @@ class CpuCompositor final : public Compositor {
 
  private:
   struct Frame;  // per-draw constants shared by the bands
-  /// Rows [row_begin, row_end) with band `band`'s scratch (0: the caller's, 1: the worker's).
+  /// Rows [row_begin, row_end) with band `band`'s scratch (0: the caller's, 1..: a worker's).
   void draw_band(int row_begin, int row_end, int band);
   /// Row y of the viewport into position_map_: (u, v) where a > 0, NaN elsewhere (u == nullptr:
   /// the whole row NaN).

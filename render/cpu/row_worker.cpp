@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
+#include <string>
 
 #if defined(__x86_64__)
 #include <immintrin.h>
@@ -38,37 +40,38 @@ T wait_change(const std::atomic<T>& a, T old, bool spin) {
 }  // namespace
 
 RowWorker::RowWorker(int threads, Split split, int rows_per_take, bool spin)
-    : threads_(threads == 2 ? 2 : 1),
-      split_(split),
-      rows_per_take_(std::max(1, rows_per_take)),
-      spin_(spin) {
-  if (threads_ == 2) worker_ = std::thread([this] { worker_loop(); });
+    : threads_(threads), split_(split), rows_per_take_(std::max(1, rows_per_take)), spin_(spin) {
+  if (threads < 1 || threads > kMaxThreads)
+    throw std::invalid_argument("CPU pass threads: " + std::to_string(threads) + " is outside 1.." +
+                                std::to_string(kMaxThreads));
+  workers_.reserve(static_cast<std::size_t>(threads_ - 1));
+  for (int t = 1; t < threads_; ++t) workers_.emplace_back([this, t] { worker_loop(t); });
 }
 
 RowWorker::~RowWorker() {
-  if (worker_.joinable()) {
-    quit_.store(true);
-    job_.fetch_add(1, std::memory_order_release);
-    job_.notify_one();
-    worker_.join();
-  }
+  if (workers_.empty()) return;
+  quit_.store(true);
+  job_.fetch_add(1, std::memory_order_release);
+  job_.notify_all();
+  for (std::thread& w : workers_) w.join();
 }
 
-void RowWorker::worker_loop() {
+void RowWorker::worker_loop(int thread) {
   uint64_t seen = 0;
   for (;;) {
     // Frames come a display period apart: sleep on the atomic rather than spin between them.
     seen = wait_change(job_, seen, false);
     if (quit_.load()) return;
-    take_rows(1);
+    take_rows(thread);
   }
 }
 
 void RowWorker::take_rows(int thread) {
-  if (split_ == Split::kHalves) {
+  if (split_ == Split::kBands) {
+    // 64-bit products: rows times threads stays far from overflow either way, but cheaply so.
     const int h = rows_;
-    const int begin = thread == 0 ? 0 : h / 2;
-    const int end = thread == 0 ? h / 2 : h;
+    const auto begin = static_cast<int>(int64_t(h) * thread / threads_);
+    const auto end = static_cast<int>(int64_t(h) * (thread + 1) / threads_);
     call_(context_, begin, end, thread);
     if (rows_done_.fetch_add(end - begin, std::memory_order_acq_rel) + (end - begin) == h)
       rows_done_.notify_one();
@@ -89,7 +92,7 @@ void RowWorker::take_rows(int thread) {
 
 void RowWorker::run_erased(int rows, void* context, Call call) {
   if (rows <= 0) return;
-  if (threads_ != 2 || rows < 2) {
+  if (threads_ == 1 || rows < threads_) {
     call(context, 0, rows, 0);
     return;
   }
@@ -99,7 +102,7 @@ void RowWorker::run_erased(int rows, void* context, Call call) {
   rows_done_.store(0, std::memory_order_relaxed);
   claim_.store(static_cast<uint64_t>(rows) << 32, std::memory_order_release);
   job_.fetch_add(1, std::memory_order_release);
-  job_.notify_one();
+  job_.notify_all();
   take_rows(0);
   for (int d = rows_done_.load(std::memory_order_acquire); d != rows;)
     d = wait_change(rows_done_, d, spin_);

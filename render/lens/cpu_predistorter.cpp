@@ -23,7 +23,7 @@ bool sizes_fit(const LensWarp& w, const ImageRgba8& eyes, const ImageRgba8& pane
 CpuPredistorter::CpuPredistorter(const LensWarp& warp, int threads, Simd simd, Method method)
     : warp_(warp),
       method_(method),
-      threads_(std::clamp(threads, 1, 2)),
+      threads_(threads),
       rows_(threads_, RowWorker::Split::kClaimed, kRowsPerTake, /*spin=*/true) {
 #if HD_LENS_AVX2
   if (simd != Simd::kNone && kernels::cpu_has_avx2()) simd_ = Simd::kAvx2;

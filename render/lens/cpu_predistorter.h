@@ -31,11 +31,11 @@ namespace hd::render::lens {
 ///    offset from the eye's principal point scaled by aberration[c] / aberration[G] in 16.16
 ///    fixed point.
 ///
-/// apply() allocates nothing; with threads = 2 the caller and a persistent worker (woken through
-/// an atomic) claim rows four at a time from a shared counter (RowWorker's kClaimed), so the work
-/// splits evenly whatever the rows cost and however late the worker wakes (or, on a busy machine,
-/// the caller does them all); the caller spins briefly for the last rows before it sleeps on the
-/// atomic.
+/// apply() allocates nothing; with N threads the caller and N - 1 persistent workers (woken
+/// through an atomic) claim rows four at a time from a shared counter (RowWorker's kClaimed), so
+/// the work splits evenly whatever the rows cost and however late a worker wakes (or, on a busy
+/// machine, the caller does them all); the caller spins briefly for the last rows before it
+/// sleeps on the atomic. `threads` in 1..RowWorker::kMaxThreads, else std::invalid_argument.
 class CpuPredistorter {
  public:
   enum class Method { kRadial, kPositionTable };

@@ -1,4 +1,4 @@
-// The CPU reference compositor as a component: the same bytes from one thread or two, malformed
+// The CPU reference compositor as a component: the same bytes from any thread count, malformed
 // requests refused and counted, and no allocation per frame (a counting allocator: every operator
 // new of this test program passes through it).
 #include <gtest/gtest.h>
@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <stdexcept>
 
 #include "support/cpu_compositor_scenes.h"
 
@@ -34,7 +35,7 @@ namespace {
 
 using namespace hd::render::test;
 
-TEST(CpuCompositor, TwoThreadsGiveTheSameBytesAsOne) {
+TEST(CpuCompositor, AnyThreadCountGivesTheSameBytesAsOne) {
   const Pinhole eye = pinhole(250.0, 300, 200);
   const Pinhole real = pinhole(400.0, 320, 240);
   const Frame frame = coded_frame(320, 240);
@@ -49,10 +50,15 @@ TEST(CpuCompositor, TwoThreadsGiveTheSameBytesAsOne) {
   req.mode = TransitionMode::kPerPixel;
   req.transition = {Variant::kHybrid, 0.7, 0.3};
   req.marking.style = MarkingStyle::kChecker;
-  CpuCompositor one(1), two(2);
+  CpuCompositor one(1);
   one.draw(req, a);
-  two.draw(req, b);
-  EXPECT_EQ(a.data, b.data);
+  for (const int threads : {2, 3, 8}) {
+    CpuCompositor many(threads);
+    b.data.assign(b.data.size(), 0);
+    many.draw(req, b);
+    EXPECT_EQ(a.data, b.data) << threads << " threads";
+  }
+  EXPECT_THROW(CpuCompositor(9), std::invalid_argument);  // refused, never quietly fewer
 }
 
 TEST(CpuCompositor, MalformedRequestsAreRejectedAndCountedWithoutTouchingTheOutput) {

@@ -1,12 +1,13 @@
-// The CPU passes' two-thread row worker: every row given exactly once, the worker's share done
-// before run() returns, a clean stop, and no allocation per run. The threads wait for each other
-// through atomics, never for time.
+// The CPU passes' row worker: every row given exactly once at any thread count, the workers'
+// shares done before run() returns, a thread count outside its range refused, a clean stop, and no
+// allocation per run. The threads wait for each other through atomics, never for time.
 #include "render/cpu/row_worker.h"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <memory>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -34,8 +35,8 @@ struct Record {
 };
 
 TEST(RowWorker, EveryRowIsGivenExactlyOnceWhateverTheSplitAndCount) {
-  for (const RowWorker::Split split : {RowWorker::Split::kHalves, RowWorker::Split::kClaimed}) {
-    for (const int threads : {1, 2}) {
+  for (const RowWorker::Split split : {RowWorker::Split::kBands, RowWorker::Split::kClaimed}) {
+    for (const int threads : {1, 2, 3, 8}) {
       RowWorker w(threads, split, 3);
       EXPECT_EQ(w.threads(), threads);
       // Several runs on one worker, with row counts that change (a new viewport size).
@@ -69,8 +70,8 @@ TEST(RowWorker, OneThreadDrawsEverythingInOneCallOnTheCaller) {
   EXPECT_EQ(calls, 1);
 }
 
-TEST(RowWorker, HalvesRunTogetherAndTheWorkersHalfIsDoneBeforeRunReturns) {
-  RowWorker w(2, RowWorker::Split::kHalves);
+TEST(RowWorker, TwoBandsRunTogetherAndTheWorkersBandIsDoneBeforeRunReturns) {
+  RowWorker w(2, RowWorker::Split::kBands);
   const std::thread::id caller = std::this_thread::get_id();
   for (const int rows : {2, 9, 480}) {
     std::atomic<bool> worker_started{false}, caller_finished{false};
@@ -102,6 +103,46 @@ TEST(RowWorker, HalvesRunTogetherAndTheWorkersHalfIsDoneBeforeRunReturns) {
     EXPECT_EQ(worker_end, rows);
     EXPECT_NE(worker_id, caller);
   }
+}
+
+TEST(RowWorker, NBandsAreEqualToARowAndEachThreadDrawsItsOwn) {
+  for (const int threads : {3, 5, 8}) {
+    RowWorker w(threads, RowWorker::Split::kBands);
+    for (const int rows : {threads, 100, 481}) {
+      std::vector<std::atomic<int>> begin(static_cast<std::size_t>(threads));
+      std::vector<std::atomic<int>> end(static_cast<std::size_t>(threads));
+      std::vector<std::thread::id> ids(static_cast<std::size_t>(threads));
+      for (auto& b : begin) b.store(-1);
+      auto fn = [&](int b, int e, int t) {
+        begin[static_cast<std::size_t>(t)].store(b);
+        end[static_cast<std::size_t>(t)].store(e);
+        ids[static_cast<std::size_t>(t)] = std::this_thread::get_id();
+      };
+      w.run(rows, fn);
+      int next = 0;
+      for (int t = 0; t < threads; ++t) {
+        const auto i = static_cast<std::size_t>(t);
+        EXPECT_EQ(begin[i].load(), next) << threads << " threads, band " << t;
+        const int size = end[i].load() - begin[i].load();
+        EXPECT_GE(size, rows / threads) << threads << " threads, band " << t;
+        EXPECT_LE(size, rows / threads + 1) << threads << " threads, band " << t;
+        next = end[i].load();
+        for (int u = 0; u < t; ++u) EXPECT_NE(ids[i], ids[static_cast<std::size_t>(u)]);
+      }
+      EXPECT_EQ(next, rows);
+    }
+  }
+}
+
+TEST(RowWorker, AThreadCountOutsideItsRangeIsRefusedNotChanged) {
+  EXPECT_THROW(RowWorker(0), std::invalid_argument);
+  EXPECT_THROW(RowWorker(RowWorker::kMaxThreads + 1), std::invalid_argument);
+  try {
+    RowWorker w(9);
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "CPU pass threads: 9 is outside 1..8");
+  }
+  EXPECT_EQ(RowWorker(RowWorker::kMaxThreads).threads(), RowWorker::kMaxThreads);
 }
 
 TEST(RowWorker, ClaimedRowsComeInGroupsAndTheWorkerTakesSome) {
@@ -137,8 +178,8 @@ TEST(RowWorker, ClaimedRowsComeInGroupsAndTheWorkerTakesSome) {
 TEST(RowWorker, StopsCleanlyWithOrWithoutWork) {
   // Destroyed before any run, and after runs (a hang here fails the test by its time-out).
   { RowWorker idle(2, RowWorker::Split::kClaimed); }
-  { RowWorker idle(2, RowWorker::Split::kHalves); }
-  auto w = std::make_unique<RowWorker>(2, RowWorker::Split::kHalves);
+  { RowWorker idle(2, RowWorker::Split::kBands); }
+  auto w = std::make_unique<RowWorker>(2, RowWorker::Split::kBands);
   std::atomic<int> rows_seen{0};
   auto fn = [&](int b, int e, int) { rows_seen.fetch_add(e - b); };
   w->run(64, fn);
@@ -147,7 +188,7 @@ TEST(RowWorker, StopsCleanlyWithOrWithoutWork) {
 }
 
 TEST(RowWorker, RunAllocatesNothing) {
-  for (const RowWorker::Split split : {RowWorker::Split::kHalves, RowWorker::Split::kClaimed}) {
+  for (const RowWorker::Split split : {RowWorker::Split::kBands, RowWorker::Split::kClaimed}) {
     RowWorker w(2, split);
     std::atomic<int> rows_seen{0};
     auto fn = [&](int b, int e, int) { rows_seen.fetch_add(e - b); };

@@ -102,7 +102,7 @@ TEST(CpuPredistorter, SamplePointsMatchTheLensModel) {
   }
 }
 
-// Every kernel this CPU has (AVX2, and AVX-512 for kRadial), 1 and 2 threads, against the
+// Every kernel this CPU has (AVX2, and AVX-512 for kRadial), 1, 2 and 3 threads, against the
 // scalar rows; the OSVR profile's spans run without the clamp, the DK1's rim spans (cut by its
 // usable radius) with it.
 TEST(CpuPredistorter, RowKernelGivesTheScalarBytes) {
@@ -126,7 +126,7 @@ TEST(CpuPredistorter, RowKernelGivesTheScalarBytes) {
         clamped += 2 * w.panel_height() - scalar.clamp_free_spans();
       }
       for (const Simd level : {Simd::kAvx2, Simd::kBest})
-        for (int threads : {1, 2}) {
+        for (int threads : {1, 2, 3}) {
           CpuPredistorter simd(w, threads, level, method);
           std::fill(a.data.begin(), a.data.end(), 0);
           ASSERT_TRUE(simd.apply(eyes, a));

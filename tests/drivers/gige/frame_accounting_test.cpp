@@ -77,20 +77,23 @@ TEST(FrameAccounting, IdsSkippedBeforeALostOrWrongFormatFrameAreGapsToo) {
   EXPECT_EQ(c.dropped(), 4u);  // bad buffers and gaps (a wrong-format frame is counted apart)
 }
 
-TEST(FrameAccounting, BadBuffersBeforeTheFirstFrameOfEachStartAreCountedApart) {
+TEST(FrameAccounting, LossesBeforeTheFirstFrameOfEachStartAreCountedApart) {
   GigeCounters c;
   FrameAccounting a(c);
   a.start();
   a.lost(1, kTimeout);
   a.lost(2, kTimeout);
-  publish(a, 3);
-  a.lost(4, kTimeout);
+  publish(a, 4);  // id 3 never came: a gap before the first frame
+  a.lost(5, kTimeout);
+  publish(a, 7);  // id 6: a gap after it
   a.reconnected();
   a.lost(1, kTimeout);  // the reopened camera's first frame, lost too
-  publish(a, 2);
+  publish(a, 3);        // id 2: before this start's first frame again
   const GigeStats s = c.snapshot();
   EXPECT_EQ(s.bad_buffers, 4u);
   EXPECT_EQ(s.bad_before_first_frame, 3u);
+  EXPECT_EQ(s.id_gaps, 3u);
+  EXPECT_EQ(s.gaps_before_first_frame, 2u);
 }
 
 TEST(FrameAccounting, LateDuplicateAndInvalidIdsAreSkippedAndCounted) {
