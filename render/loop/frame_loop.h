@@ -45,7 +45,14 @@ class FrameLoop {
   /// Runs `frames` frames.
   void run(uint64_t frames, FrameWork& work);
 
+  /// Runs at the display rate / `divisor` from the next slot on (RateGovernor): slots stay on
+  /// the display's vsync grid. std::invalid_argument below 1.
+  void set_divisor(int divisor);
+  int divisor() const { return divisor_; }
+  /// The period in use: the display's times the divisor.
   int64_t period_ns() const { return period_ns_; }
+  /// How long the newest frame's work took (from when it began, after any sleep, to its end).
+  int64_t last_work_ns() const { return last_work_ns_; }
   uint64_t frames() const { return frames_; }
   uint64_t missed_deadlines() const { return missed_; }
   uint64_t skipped_slots() const { return skipped_; }
@@ -55,7 +62,10 @@ class FrameLoop {
  private:
   FrameLoopConfig config_;
   LoopClock& clock_;
+  int64_t display_period_ns_;
   int64_t period_ns_;
+  int divisor_ = 1;
+  int64_t last_work_ns_ = 0;
   bool started_ = false;
   int64_t next_start_ns_ = 0;
   int64_t prev_start_ns_ = 0;

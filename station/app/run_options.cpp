@@ -26,6 +26,11 @@ void add_run_options(CLI::App& cmd, RunOptions& o) {
   frames->excludes(seconds);
   cmd.add_option("--rate", o.rate_hz, "Frame rate in Hz (default: the config's, else 90)")
       ->check(CLI::Range(1.0, 1000.0));
+  cmd.add_option("--rate-policy", o.rate_policy,
+                 "hold: run at the fastest of the rate, its half, third or quarter that this "
+                 "machine holds, changing with the load, as VR runtimes do (default); fixed: "
+                 "always the rate, every miss counted")
+      ->check(CLI::IsMember({"hold", "fixed"}));
   cmd.add_flag("--loop", o.loop,
                "Scene runs: the head and moving objects start over every duration_s, for runs "
                "longer than the scene (the soak)")

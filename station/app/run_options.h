@@ -14,9 +14,11 @@ struct RunOptions {
   std::string out_dir = "out/run";
   bool headless = false;
   bool gl = false;
-  uint64_t frames = 0;     ///< 0: run for `seconds`
-  double seconds = 0.0;    ///< 0: the scene's duration (--scene) or 10 s (--config, headless)
-  double rate_hz = 0.0;    ///< 0: the config's display rate, else 90
+  uint64_t frames = 0;   ///< 0: run for `seconds`
+  double seconds = 0.0;  ///< 0: the scene's duration (--scene) or 10 s (--config, headless)
+  double rate_hz = 0.0;  ///< 0: the config's display rate, else 90
+  /// hold: the fastest divisor of the rate this machine holds (RateHolder); fixed: the rate.
+  std::string rate_policy = "hold";
   bool loop = false;       ///< --loop: the scene's motion starts over every duration_s
   std::string video_path;  ///< "" = no video
   uint64_t png_every = 0;  ///< 0 = no PNG frames

@@ -27,10 +27,18 @@ nlohmann::json stats_json(const render::LatencyStats& s) {
 void print_summary(const RunSummary& s, std::FILE* out) {
   std::fprintf(out, "summary (%s)\n", s.source.c_str());
   std::fprintf(out,
-               "  frames %" PRIu64 " in %.1f s at %.1f Hz; missed deadlines %" PRIu64
-               " (%.2f %%), skipped slots %" PRIu64 "\n",
-               s.frames, s.seconds, s.rate_hz, s.missed_deadlines, 100.0 * s.missed_rate(),
-               s.skipped_slots);
+               "  frames %" PRIu64
+               " in %.1f s, display %.1f Hz (rate policy %s); missed "
+               "deadlines %" PRIu64
+               " (%.2f %%) against the rate each frame ran at, skipped "
+               "display slots %" PRIu64 "\n",
+               s.frames, s.seconds, s.rate_hz, s.rate_policy.c_str(), s.missed_deadlines,
+               100.0 * s.missed_rate(), s.skipped_slots);
+  for (const HeldRate& r : s.rates)
+    std::fprintf(out, "    at %5.1f Hz: %" PRIu64 " frames, %" PRIu64 " missed (%.2f %%)\n",
+                 r.rate_hz, r.frames, r.missed_deadlines,
+                 r.frames ? 100.0 * double(r.missed_deadlines) / double(r.frames) : 0.0);
+  if (s.rate_changes) std::fprintf(out, "    rate changes: %" PRIu64 "\n", s.rate_changes);
   line(out, "motion-to-photon swap", s.mtp_swap);
   line(out, "motion-to-photon display", s.mtp_display);
   line(out, "video age", s.video_age);
@@ -124,6 +132,12 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
   j["missed_deadlines"] = s.missed_deadlines;
   j["missed_deadline_rate"] = s.missed_rate();
   j["skipped_slots"] = s.skipped_slots;
+  j["rate_policy"] = s.rate_policy;
+  j["rate_changes"] = s.rate_changes;
+  j["rates"] = nlohmann::json::array();
+  for (const HeldRate& r : s.rates)
+    j["rates"].push_back(
+        {{"rate_hz", r.rate_hz}, {"frames", r.frames}, {"missed_deadlines", r.missed_deadlines}});
   j["latency"] = {{"motion_to_photon_swap", stats_json(s.mtp_swap)},
                   {"motion_to_photon_display", stats_json(s.mtp_display)},
                   {"video_age", stats_json(s.video_age)},

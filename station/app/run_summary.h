@@ -11,6 +11,7 @@
 #include "drivers/camera_link.h"
 #include "render/latency/latency_recorder.h"
 #include "station/app/camera_events.h"
+#include "station/app/rate_holder.h"
 #include "station/app/usability_log.h"
 
 namespace hd::station {
@@ -40,8 +41,13 @@ struct CameraSummary {
 struct RunSummary {
   std::string source;  ///< "scene <file>" or "config <file>"
   uint64_t frames = 0;
-  double seconds = 0.0;  ///< wall time of the loop
-  double rate_hz = 0.0;
+  double seconds = 0.0;     ///< wall time of the loop
+  double rate_hz = 0.0;     ///< the display's
+  std::string rate_policy;  ///< hold | fixed
+  /// The rates the frames ran at (the display's, or a divisor of it), with their frames and the
+  /// misses against each; missed_deadlines is their sum.
+  std::vector<HeldRate> rates;
+  uint64_t rate_changes = 0;
   uint64_t missed_deadlines = 0;
   uint64_t skipped_slots = 0;
   render::LatencyStats mtp_swap, mtp_display, video_age, model_age, render;

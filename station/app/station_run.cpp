@@ -28,6 +28,7 @@
 #include "station/app/frame_recorder.h"
 #include "station/app/frames_csv.h"
 #include "station/app/model_tile.h"
+#include "station/app/rate_holder.h"
 #include "station/app/run_progress.h"
 #include "station/app/run_summary.h"
 #include "station/app/run_work.h"
@@ -200,6 +201,13 @@ int run(const RunOptions& o) {
     std::printf("  run              %.1f s\n", seconds);
   else
     std::printf("  run              until Esc/Q (or Ctrl-C)\n");
+  RateHolder rates(p.rate_hz, o.rate_policy == "hold", stdout);
+  std::printf("  rate             %s\n", rates.start_line().c_str());
+  if (!o.video_path.empty() && rates.holds())
+    std::printf(
+        "  note: --video is written at %.1f fps: frames at a held lower rate play faster "
+        "(--rate-policy fixed keeps them in time)\n",
+        p.rate_hz);
   std::printf("  outputs          %s/\n", o.out_dir.c_str());
   std::fflush(stdout);
 
@@ -235,6 +243,7 @@ int run(const RunOptions& o) {
   wait_for_first_head_sample(*p.head, clock, p.scene_epoch_ns);
   wait_for_network_cameras(p, clock);
   const int64_t start_ns = clock.now_ns();
+  rates.set_start(start_ns);
   const int64_t end_ns = until_scene_end ? p.scene_epoch_ns + static_cast<int64_t>(seconds * 1e9)
                                          : start_ns + static_cast<int64_t>(seconds * 1e9);
   if (p.scene_epoch_ns != 0) {
@@ -264,9 +273,10 @@ int run(const RunOptions& o) {
     if (!o.frames && seconds > 0.0 && clock.now_ns() >= end_ns) break;
     if (g_interrupted.load()) break;
     loop.tick(work);
-    // Between frames, outside the counted tick: progress, the HUD text (OpenCV may allocate), the
-    // keys.
+    // Between frames, outside the counted tick: the rate, progress, the HUD text (OpenCV may
+    // allocate), the keys.
     const int64_t now = clock.now_ns();
+    rates.after_frame(loop, now);
     if (p.updater) {
       const station::ModelUpdaterStats ms = p.updater->stats();
       progress.model_done(ms.updates, ms.reconstructions);
@@ -309,6 +319,9 @@ int run(const RunOptions& o) {
   s.frames = loop.frames();
   s.seconds = loop_s;
   s.rate_hz = p.rate_hz;
+  s.rate_policy = o.rate_policy;
+  s.rates = rates.rates();
+  s.rate_changes = rates.changes();
   s.missed_deadlines = loop.missed_deadlines();
   s.skipped_slots = loop.skipped_slots();
   s.mtp_swap = latency.stats(render::LatencyMetric::kMotionToSwap);

@@ -75,6 +75,33 @@ TEST(LoopFrameLoop, LateFramesAreCountedAndTheLoopStaysPhaseLocked) {
   EXPECT_NEAR(work.seen[2].dt_s, 3 * p * 1e-9, 1e-12);
 }
 
+TEST(LoopFrameLoop, ADivisorLengthensThePeriodOnTheDisplaysVsyncGrid) {
+  FakeClock clock;
+  FrameLoop loop(FrameLoopConfig{90.0, 0, true}, clock);
+  const int64_t p = loop.period_ns();
+  // Two frames at 90 Hz, then a third of it: slots 3 display periods apart; frame 4 overruns its
+  // 3-period slot by half a display period and joins the display's next vsync (no slot of 3).
+  ScriptedWork work(clock, {p / 2, p / 2, 2 * p, 7 * p / 2, p});
+  loop.tick(work);
+  loop.tick(work);
+  loop.set_divisor(3);
+  EXPECT_EQ(loop.period_ns(), 3 * p);
+  EXPECT_EQ(loop.divisor(), 3);
+  loop.tick(work);
+  loop.tick(work);
+  loop.tick(work);
+  const int64_t t0 = work.seen[0].start_ns;
+  EXPECT_EQ(work.seen[1].start_ns, t0 + p);
+  EXPECT_EQ(work.seen[2].start_ns, t0 + 2 * p);
+  EXPECT_EQ(work.seen[2].deadline_ns, t0 + 5 * p);
+  EXPECT_EQ(work.seen[3].start_ns, t0 + 5 * p);  // 2 periods of work fit the 3 of its slot
+  EXPECT_EQ(work.seen[4].start_ns, t0 + 9 * p);  // 3.5 periods: ended at 8.5, next vsync 9
+  EXPECT_EQ(loop.missed_deadlines(), 1u);
+  EXPECT_EQ(loop.skipped_slots(), 1u);  // display periods passed with no frame starting
+  EXPECT_EQ(loop.last_work_ns(), p);
+  EXPECT_THROW(loop.set_divisor(0), std::invalid_argument);
+}
+
 TEST(LoopFrameLoop, RejectsBadRates) {
   FakeClock clock;
   EXPECT_THROW(FrameLoop(FrameLoopConfig{0.0, 0, true}, clock), std::invalid_argument);

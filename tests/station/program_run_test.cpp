@@ -223,6 +223,44 @@ TEST_F(StationRunTest, DefaultSceneWritesEveryOutputAndTheVideoReadsBack) {
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
 }
 
+// At 1000 Hz no machine draws a stereo frame in 0.85 ms: held, the station slows to a rate it
+// can draw at and reports it; fixed, it keeps 1000 Hz. Either way every frame and every miss is
+// tallied against the rate it ran at.
+TEST_F(StationRunTest, ARateTheMachineCannotHoldIsLoweredWhenHeldAndKeptWhenFixed) {
+  for (const std::string policy : {"hold", "fixed"}) {
+    const fs::path out = dir_ / policy;
+    // The default eyes (480x400, stereo): several ms a frame on any CPU.
+    const Result r =
+        run("--scene scenes/default.yaml --headless --frames 120 --rate 1000 "
+            "--rate-policy " +
+            policy + " --out '" + out.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const nlohmann::json s = summary(out);
+    EXPECT_EQ(s["rate_policy"], policy);
+    EXPECT_DOUBLE_EQ(s["rate_hz"].get<double>(), 1000.0);
+    uint64_t frames = 0, missed = 0;
+    double slowest = 1e9;
+    for (const nlohmann::json& rate : s["rates"]) {
+      frames += rate["frames"].get<uint64_t>();
+      missed += rate["missed_deadlines"].get<uint64_t>();
+      slowest = std::min(slowest, rate["rate_hz"].get<double>());
+    }
+    EXPECT_EQ(frames, 120u) << s.dump(1);
+    EXPECT_EQ(missed, s["missed_deadlines"].get<uint64_t>()) << s.dump(1);
+    if (policy == "hold") {
+      EXPECT_NE(r.out.find("rate             1000.0 Hz display; held"), std::string::npos) << r.out;
+      EXPECT_GE(s["rate_changes"].get<uint64_t>(), 1u) << s.dump(1);
+      EXPECT_LT(slowest, 1000.0) << s.dump(1);
+      EXPECT_NE(r.out.find("rate 1000.0 Hz -> "), std::string::npos) << r.out;
+    } else {
+      EXPECT_EQ(s["rate_changes"].get<uint64_t>(), 0u);
+      ASSERT_EQ(s["rates"].size(), 1u) << s.dump(1);
+      EXPECT_DOUBLE_EQ(s["rates"][0]["rate_hz"].get<double>(), 1000.0);
+      EXPECT_GT(missed, 0u);  // the same frames, unheld, miss 1 ms
+    }
+  }
+}
+
 TEST_F(StationRunTest, MockStationConfigRunsItsDevicesAndSkipsTheOptionalMissingOne) {
   const fs::path out = dir_ / "out";
   const Result r =
