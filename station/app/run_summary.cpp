@@ -22,6 +22,24 @@ nlohmann::json stats_json(const render::LatencyStats& s) {
           {"p99_ms", s.p99_ms}, {"max_ms", s.max_ms}, {"mean_ms", s.mean_ms}};
 }
 
+void print_stages(std::FILE* out, const std::string& source, const std::vector<StageFigure>& st) {
+  if (st.empty()) return;
+  std::string text;
+  for (const StageFigure& f : st) {
+    char part[64];
+    std::snprintf(part, sizeof part, "%s%s %.1f", text.empty() ? "" : " > ", f.stage.c_str(),
+                  f.p50_ms);
+    text += part;
+  }
+  std::fprintf(out, "  stages %-20s p50 ms since capture: %s\n", source.c_str(), text.c_str());
+}
+
+nlohmann::json stages_json(const std::vector<StageFigure>& st) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const StageFigure& f : st) j[f.stage] = f.p50_ms;
+  return j;
+}
+
 }  // namespace
 
 void print_summary(const RunSummary& s, std::FILE* out) {
@@ -54,6 +72,8 @@ void print_summary(const RunSummary& s, std::FILE* out) {
                  "  camera %-20s new frames shown %" PRIu64 ", lost by the device %" PRIu64
                  ", rejected %" PRIu64 "\n",
                  c.name.c_str(), c.frames_shown, c.frames_lost, c.frames_rejected);
+  print_stages(out, "model", s.model_stages);
+  for (const RunSummary::Camera& c : s.cameras) print_stages(out, c.name, c.stages);
   for (const RunSummary::Camera& c : s.cameras) {
     if (!c.network) continue;
     const RunSummary::NetworkCamera& n = *c.network;
@@ -165,9 +185,11 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
                     {"frames_shown", c.frames_shown},
                     {"frames_lost", c.frames_lost},
                     {"frames_rejected", c.frames_rejected},
+                    {"stages_p50_ms_since_capture", stages_json(c.stages)},
                     {"unusable_intervals", unusable}});
   }
   j["cameras"] = cams;
+  j["model_stages_p50_ms_since_capture"] = stages_json(s.model_stages);
   j["frames_stale_blocked"] = s.frames_stale_blocked;
   nlohmann::json events = nlohmann::json::array();
   for (const CameraEventRecord& e : s.camera_events)

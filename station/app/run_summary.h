@@ -27,6 +27,11 @@ struct NetworkCameraSummary : drivers::LinkReport {
   std::string calibration;
   uint64_t frames_uncalibrated = 0;
 };
+/// A stage's p50 time since capture over the run.
+struct StageFigure {
+  std::string stage;
+  double p50_ms = 0.0;
+};
 /// One camera's run, in the station's camera order.
 struct CameraSummary {
   std::string name;
@@ -36,6 +41,9 @@ struct CameraSummary {
   /// The stretches in which its video was withheld (too old, source not streaming).
   std::vector<UnusableInterval> unusable;
   std::optional<NetworkCameraSummary> network;  ///< a network camera's link
+  /// Its stages (StageDelays::video()) as p50 ms since capture over the run; stages without a
+  /// sample are left out.
+  std::vector<StageFigure> stages;
 };
 
 struct RunSummary {
@@ -66,6 +74,7 @@ struct RunSummary {
   uint64_t pose_accepted = 0, pose_rejected = 0;
   uint64_t recentres = 0, tracker_resets = 0;
   uint64_t model_updates = 0;
+  std::vector<StageFigure> model_stages;  ///< StageDelays::model(), as CameraSummary::stages
   /// Stereo pairs reconstructed into the model / refused (a camera without a frame, frames not
   /// of one exposure, not newer).
   uint64_t reconstructions = 0, reconstructions_refused = 0;

@@ -30,6 +30,7 @@
 #include "station/app/model_tile.h"
 #include "station/app/rate_holder.h"
 #include "station/app/run_progress.h"
+#include "station/app/run_stages.h"
 #include "station/app/run_summary.h"
 #include "station/app/run_work.h"
 #include "station/app/scene_locator.h"
@@ -244,6 +245,8 @@ int run(const RunOptions& o) {
   wait_for_network_cameras(p, clock);
   const int64_t start_ns = clock.now_ns();
   rates.set_start(start_ns);
+  RunStages stages(p.cameras.size());
+  uint64_t recorded = latency.total_recorded();
   const int64_t end_ns = until_scene_end ? p.scene_epoch_ns + static_cast<int64_t>(seconds * 1e9)
                                          : start_ns + static_cast<int64_t>(seconds * 1e9);
   if (p.scene_epoch_ns != 0) {
@@ -277,6 +280,11 @@ int run(const RunOptions& o) {
     // allocate), the keys.
     const int64_t now = clock.now_ns();
     rates.after_frame(loop, now);
+    if (latency.total_recorded() > recorded) {  // the frame's record (not one of warm-up)
+      recorded = latency.total_recorded();
+      stages.after_frame(latency.at(latency.size() - 1), frame.last_row().camera,
+                         p.updater ? &p.updater->models().latest() : nullptr, now);
+    }
     if (p.updater) {
       const station::ModelUpdaterStats ms = p.updater->stats();
       progress.model_done(ms.updates, ms.reconstructions);
@@ -294,6 +302,8 @@ int run(const RunOptions& o) {
       hud.assign(variant_name(r.variant));
       hud += "  ";
       hud.append(latency.hud_line());
+      const std::string stage_text = stages.hud_text(r.camera, camera_names, now);
+      if (!stage_text.empty()) hud += " | " + stage_text;
       frame.set_hud_text(hud);
     }
     if (keys) {
@@ -343,6 +353,7 @@ int run(const RunOptions& o) {
     out.frames_rejected = c.pipeline->rejected();
     out.frames_lost = c.pipeline->device_dropped_frames();
     out.unusable = usability.intervals()[i];
+    out.stages = stage_figures(stages.video(i));
     if (c.link == nullptr) continue;
     RunSummary::NetworkCamera& n = out.network.emplace();
     static_cast<drivers::LinkReport&>(n) = c.link->link_report();
@@ -365,6 +376,7 @@ int run(const RunOptions& o) {
   s.recentres = p.head->recentres();
   s.tracker_resets = p.head->tracker_resets();
   s.model_updates = p.updater ? p.updater->stats().updates : 0;
+  s.model_stages = stage_figures(stages.model());
   s.reconstructions = p.updater ? p.updater->stats().reconstructions : 0;
   s.reconstructions_refused = p.updater ? p.updater->stats().reconstructions_refused : 0;
   s.allocations_after_warmup = allocations;

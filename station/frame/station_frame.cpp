@@ -39,11 +39,11 @@ StationFrame::StationFrame(StationFrameConfig config,
     // The HUD goes where the eye sees it through the lens, not at the image's (black) corner.
     panel_.allocate(config_.lens->panel_width(), config_.lens->panel_height());
     hud_viewport_ = config_.lens->visible_rect(0);
-    hud_ = render::HudStrip(hud_viewport_.width, std::max(18, hud_viewport_.height / 16), 3);
+    hud_ = render::HudStrip(hud_viewport_.width, std::max(18, hud_viewport_.height / 16), 5);
     compositor_.set_lens(config_.lens.get());
   } else {
     hud_ =
-        render::HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24), 3);
+        render::HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24), 5);
   }
   rows_.reserve(config_.max_rows);
 }

@@ -20,7 +20,8 @@ struct ModelSnapshot {
   /// scene.meshes[0, prior_meshes) are the a-priori model; the meshes after them are the stereo
   /// pairs' reconstruction (one per pair, empty = nothing new seen), as the contact sheet tints.
   std::size_t prior_meshes = 0;
-  int64_t reconstruct_ns = 0;  ///< what the reconstruction of this update took (0: none)
+  int64_t reconstruct_ns = 0;    ///< what the reconstruction of this update took (0: none)
+  int64_t reconstructed_ns = 0;  ///< when that reconstruction ended (its clock; 0: none)
 };
 
 }  // namespace hd::station

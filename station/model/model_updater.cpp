@@ -239,7 +239,8 @@ void ModelUpdater::reconstruct_pairs() {
       if (occ.texture.empty()) occ.texture.allocate(1, 1);
     }
   }
-  reconstruct_ns_ = clock_.now_ns() - t0;
+  reconstructed_ns_ = clock_.now_ns();
+  reconstruct_ns_ = reconstructed_ns_ - t0;
   last_reconstruct_ns_.store(reconstruct_ns_, std::memory_order_relaxed);
   if (reconstruct_ns_ > max_reconstruct_ns_.load(std::memory_order_relaxed))
     max_reconstruct_ns_.store(reconstruct_ns_, std::memory_order_relaxed);
@@ -269,7 +270,7 @@ void ModelUpdater::finish_update() {
 }
 
 void ModelUpdater::finish() {
-  reconstruct_ns_ = 0;
+  reconstruct_ns_ = reconstructed_ns_ = 0;
   if (!pairs_.empty()) reconstruct_pairs();
   ++attempts_;
   if (config_.move_objects) config_.move_objects(working_, capture_oldest_ns_);
@@ -289,6 +290,7 @@ void ModelUpdater::publish() {
   copy_model(working_, slot.scene, prior_meshes_);
   slot.prior_meshes = prior_meshes_;
   slot.reconstruct_ns = reconstruct_ns_;
+  slot.reconstructed_ns = reconstructed_ns_;
   slot.capture_oldest_ns = capture_oldest_ns_;
   slot.capture_newest_ns = capture_newest_ns_;
   slot.taken_ns = taken_ns_;

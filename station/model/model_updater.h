@@ -130,7 +130,7 @@ class ModelUpdater {
   std::vector<std::unique_ptr<PairReconstruction>> pairs_;
   std::size_t prior_meshes_ = 0;  ///< meshes [0, prior_meshes_) are the a-priori model
   uint64_t attempts_ = 0;         ///< updates with frames (a pair is due every n-th)
-  int64_t reconstruct_ns_ = 0;
+  int64_t reconstruct_ns_ = 0, reconstructed_ns_ = 0;
   std::vector<ExtractionView> views_;  ///< the cameras that had a frame this update
   render::SyntheticScene working_;
   TextureExtractor extractor_;
