@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cmath>
 #include <cstdio>
 
 #include "drivers/rtp/rtp_frame_stamp.h"
@@ -26,7 +27,8 @@ int64_t sites_offset_ns(const ClockMapping& m, int64_t realtime_minus_monotonic_
 }
 
 std::string describe(const ClockMapping& m, int64_t realtime_minus_monotonic_ns) {
-  const double sites_ms = double(sites_offset_ns(m, realtime_minus_monotonic_ns)) * 1e-6;
+  double sites_ms = double(sites_offset_ns(m, realtime_minus_monotonic_ns)) * 1e-6;
+  if (std::fabs(sites_ms) < 0.0005) sites_ms = 0.0;  // printed as +0.000, never -0.000
   const double error_ms = double(m.uncertainty_ns) * 1e-6;
   char text[320];
   switch (m.kind) {

@@ -18,6 +18,7 @@ void copy_frame_stamps(const drivers::Frame& src, drivers::Frame& dst) {
   dst.device_timestamp_ns = src.device_timestamp_ns;
   dst.host_timestamp_ns = src.host_timestamp_ns;
   dst.device_time_trusted = src.device_time_trusted;
+  dst.link = src.link;
   dst.calibration = src.calibration;
 }
 

@@ -202,6 +202,7 @@ TEST(VideoFrameCopy, CopiesPixelsAcrossStridesAndKeepsStamps) {
   a.device_timestamp_ns = 77;
   a.host_timestamp_ns = 99;
   a.device_time_trusted = true;
+  a.link = {101, 102, 103, 104};  // a network camera's stages: the HUD's and latency.png's
   ASSERT_TRUE(copy_frame(a, b));
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 20; ++x)
@@ -212,6 +213,10 @@ TEST(VideoFrameCopy, CopiesPixelsAcrossStridesAndKeepsStamps) {
   EXPECT_EQ(b.device_timestamp_ns, 77);
   EXPECT_EQ(b.host_timestamp_ns, 99);
   EXPECT_TRUE(b.device_time_trusted);
+  EXPECT_EQ(b.link.encoded_ns, 101);
+  EXPECT_EQ(b.link.sent_ns, 102);
+  EXPECT_EQ(b.link.received_ns, 103);
+  EXPECT_EQ(b.link.decoded_ns, 104);
 }
 
 }  // namespace
