@@ -1,8 +1,8 @@
 #include "drivers/rtp/clock_offset_estimator.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 #include "drivers/rtp/rtp_frame_stamp.h"
