@@ -436,11 +436,17 @@ TEST(GigeCamera, EveryFrameAt60FpsIsDeliveredInOrderOrCounted) {
       static_cast<unsigned long long>(*kernel_drops),
       static_cast<unsigned long long>(packets_per_frame));
   // Lost only where the kernel dropped: each frame missing from the ids is all of its datagrams,
-  // each bad buffer at least one. No datagram dropped: no gap, no bad buffer.
-  EXPECT_LE(s.id_gaps * packets_per_frame + s.bad_buffers, *kernel_drops)
-      << s.id_gaps << " frames missing from the ids and " << s.bad_buffers
-      << " bad buffers (last ArvBufferStatus " << s.last_bad_status << "), but the kernel dropped "
-      << *kernel_drops << " datagrams";
+  // each bad buffer at least one. No datagram dropped: no gap, no bad buffer. Losses before the
+  // first good frame are counted apart and left out: the camera streams while Aravis is still
+  // setting up its stream socket, and a datagram that reaches no socket yet is in no socket's
+  // drop count (seen under load: a first frame missing and two bad, with 166 datagrams dropped
+  // where a whole frame is 226).
+  const uint64_t gaps_after_first = s.id_gaps - s.gaps_before_first_frame;
+  const uint64_t bad_after_first = s.bad_buffers - s.bad_before_first_frame;
+  EXPECT_LE(gaps_after_first * packets_per_frame + bad_after_first, *kernel_drops)
+      << gaps_after_first << " frames missing from the ids and " << bad_after_first
+      << " bad buffers after the first frame (last ArvBufferStatus " << s.last_bad_status
+      << "), but the kernel dropped " << *kernel_drops << " datagrams";
   if (*kernel_drops == 0) {
     EXPECT_EQ(s.id_gaps, 0u);
     EXPECT_EQ(s.bad_buffers, 0u) << "last ArvBufferStatus " << s.last_bad_status;
