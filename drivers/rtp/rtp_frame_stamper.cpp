@@ -30,20 +30,23 @@ void RtpFrameStamper::add_sender_report(int64_t sender_unix_ns, int64_t arrival_
   clock_.add_sender_report(sender_unix_ns, arrival_mono_ns);
 }
 
-ClockMapping RtpFrameStamper::clock_mapping(int64_t now_ns) const {
-  ClockMapping m;
+ClockMapping RtpFrameStamper::resolved(const ClockMapping& measured) const {
+  ClockMapping m = measured;
   if (clock_kind_ == RtpReceiveConfig::Clock::kSynchronized) {
+    m = ClockMapping{};
     m.kind = ClockMapping::Kind::kSynchronized;
     m.offset_ns = -host_offset_();
     m.uncertainty_ns = clock_error_ns_;
-    return m;
+  } else if (m.kind == ClockMapping::Kind::kUnmeasured) {
+    m.offset_ns = -host_offset_();
   }
-  {
-    std::lock_guard lock(clock_mutex_);
-    m = clock_.mapping(now_ns);
-  }
-  if (m.kind == ClockMapping::Kind::kUnmeasured) m.offset_ns = -host_offset_();
   return m;
+}
+
+ClockMapping RtpFrameStamper::clock_mapping(int64_t now_ns) const {
+  if (clock_kind_ == RtpReceiveConfig::Clock::kSynchronized) return resolved(ClockMapping{});
+  std::lock_guard lock(clock_mutex_);
+  return resolved(clock_.mapping(now_ns));
 }
 
 RtpFrameStages& RtpFrameStamper::slot(uint64_t pts, int64_t arrival_ns, int64_t now_ns) {
@@ -76,11 +79,15 @@ void RtpFrameStamper::add_packet(std::optional<uint64_t> pts, uint16_t sequence,
   if (!pts) return;
   const int64_t arrival = arrival_of(sequence, now_ns);
   const bool stamped = stamp != nullptr && stamp->capture_unix_ns.has_value();
-  if (stamped && arrival != 0 && clock_kind_ == RtpReceiveConfig::Clock::kMeasured) {
+  ClockMapping m;
+  if (stamped && clock_kind_ == RtpReceiveConfig::Clock::kMeasured) {
+    // One lock per packet: its bound goes in and the mapping it gets comes out together.
     std::lock_guard lock(clock_mutex_);
-    clock_.add_packet(*stamp->capture_unix_ns, arrival);
+    if (arrival != 0) clock_.add_packet(*stamp->capture_unix_ns, arrival);
+    m = resolved(clock_.mapping(now_ns));
+  } else if (stamped) {
+    m = resolved(ClockMapping{});
   }
-  const ClockMapping m = stamped ? clock_mapping(now_ns) : ClockMapping{};
   std::lock_guard lock(slots_mutex_);
   RtpFrameStages& s = slot(*pts, arrival, now_ns);  // every packet: when its frame came in
   if (!stamped) return;

@@ -95,6 +95,8 @@ class RtpFrameStamper {
   ClockMapping clock_mapping(int64_t now_ns) const;
 
  private:
+  // The synchronized clocks' mapping, or `measured` with this host's offset while unmeasured.
+  ClockMapping resolved(const ClockMapping& measured) const;
   // Finds or makes the slot of `pts` (under slots_mutex_) and notes a packet's arrival in it.
   RtpFrameStages& slot(uint64_t pts, int64_t arrival_ns, int64_t now_ns);
 
