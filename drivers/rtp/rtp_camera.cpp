@@ -10,6 +10,7 @@
 
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/gobject_ptr.h"
+#include "drivers/rtp/access_unit_mark.h"
 #include "drivers/rtp/gstreamer_init.h"
 #include "drivers/rtp/h264_payload.h"
 #include "drivers/rtp/h264_recovery_point.h"
@@ -297,18 +298,18 @@ void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
 bool RtpCamera::on_access_unit(GstPad* pad, GstBuffer*& buffer) {
   counters_.access_units.fetch_add(1, std::memory_order_relaxed);
   if (!judge_access_unit(pad, buffer)) return false;
-  buffer = to_decoder_pts(buffer);
   if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DELTA_UNIT)) return true;
-  counters_.last_key_frame_capture_ns.store(
-      stamper_.capture_of(from_decoder_pts(GST_BUFFER_PTS(buffer))), std::memory_order_relaxed);
+  counters_.last_key_frame_capture_ns.store(stamper_.capture_of(GST_BUFFER_PTS(buffer)),
+                                            std::memory_order_relaxed);
   counters_.key_frames.fetch_add(1, std::memory_order_release);
   return true;
 }
 
 void RtpCamera::on_decoded(GstBuffer* buffer) {
   counters_.frames_decoded.fetch_add(1, std::memory_order_relaxed);
-  const GstClockTime pts = GST_BUFFER_PTS(buffer);
-  if (GST_CLOCK_TIME_IS_VALID(pts)) stamper_.add_decoded(from_decoder_pts(pts), monotonic_now_ns());
+  const std::optional<AccessUnitMark> mark = access_unit_mark(buffer);
+  if (mark && GST_CLOCK_TIME_IS_VALID(mark->pts))
+    stamper_.add_decoded(mark->pts, monotonic_now_ns());
 }
 
 // The appsink's streaming thread: no allocation here once the mailbox's slots are sized.
@@ -338,10 +339,9 @@ void RtpCamera::on_sample(GstElement* sink) {
   }
   format_watch_.restored(now, FormatEventCause::kFrame, expected);
   // A part of it, or of its references, is missing; or it is not known which access unit it is.
-  const GstClockTime pts = GST_BUFFER_PTS(buffer);
-  const uint64_t own_pts = GST_CLOCK_TIME_IS_VALID(pts) ? from_decoder_pts(pts) : pts;
-  if (const std::optional<bool> whole = whole_picture(own_pts); !whole.value_or(false)) {
-    (whole ? counters_.frames_damaged : counters_.frames_without_verdict)
+  const std::optional<AccessUnitMark> mark = access_unit_mark(buffer);
+  if (!mark || !mark->whole) {
+    (mark ? counters_.frames_damaged : counters_.frames_without_verdict)
         .fetch_add(1, std::memory_order_relaxed);
     return;
   }
@@ -360,7 +360,7 @@ void RtpCamera::on_sample(GstElement* sink) {
                 src + std::size_t(y) * src_stride, std::size_t(w) * 4);
   gst_video_frame_unmap(&vf);
   const RtpStampedFrame t = stamper_.frame(
-      GST_CLOCK_TIME_IS_VALID(pts) ? std::optional<uint64_t>(own_pts) : std::nullopt, now);
+      GST_CLOCK_TIME_IS_VALID(mark->pts) ? std::optional<uint64_t>(mark->pts) : std::nullopt, now);
   slot.calibration =
       t.stages.has_revision ? calibrations_.lookup(t.stages.revision) : FrameCalibration{};
   if (!calibrations_.fits(slot.calibration, w, h)) return;

@@ -172,14 +172,10 @@ class RtpCamera final : public CameraSource, public CameraLink {
   GstPadProbeReturn on_decrypted(GstBuffer* buffer);
   void on_depay_packet(GstPad* pad, GstBuffer* buffer);
   bool on_access_unit(GstPad* pad, GstBuffer*& buffer);  // false: drop it; may replace it
-  // The PTS the decoder is given for an access unit, and back (rtp_camera_heal.cpp).
-  GstBuffer* to_decoder_pts(GstBuffer* access_unit);
-  uint64_t from_decoder_pts(uint64_t decoder_pts) const;
   // Healing after a loss (rtp_camera_heal.cpp): the depayloader's lost events, each access
   // unit's verdict (and a PLI when refresh does not heal), and a decoded frame's verdict.
   void on_packet_lost();
-  bool judge_access_unit(GstPad* pad, GstBuffer* buffer);  // false: drop it
-  std::optional<bool> whole_picture(uint64_t pts) const;   // nullopt: no verdict for pts
+  bool judge_access_unit(GstPad* pad, GstBuffer*& buffer);  // false: drop it; else marked
   void on_rtcp_into_rtpbin(GstBuffer* buffer);
   void on_rtcp_from_sender(GstBuffer* buffer);
   void set_feedback_target(GstBuffer* buffer, bool from_rtcp);
@@ -240,16 +236,9 @@ class RtpCamera final : public CameraSource, public CameraLink {
   // published frame, so each outage asks once (more come from the depayloader on every loss).
   std::atomic<bool> key_frame_requested_{false};
   // Streaming thread (the decode queue's: depayloader, decoder and appsink run in it); reset by
-  // wire() for each pipeline. The verdicts of the newest access units by PTS, for their decoded
-  // frames (the decoder outputs each within a frame or two: no B-frames, one thread).
+  // wire() for each pipeline. Each access unit's verdict rides on it to its decoded frame
+  // (access_unit_mark.h).
   H264HealWatch heal_;
-  std::array<std::pair<uint64_t, bool>, 16> verdicts_{};
-  std::size_t verdict_next_ = 0;
-  // The decoder's input PTS only ever rise (to_decoder_pts): the newest, and the access units
-  // moved on from theirs, (decoder PTS, their own).
-  uint64_t decoder_pts_ = 0;
-  std::array<std::pair<uint64_t, uint64_t>, 16> moved_pts_{};
-  std::size_t moved_next_ = 0;
   SpscRing<RtpFrameTiming, 1024> timings_;
   FormatWatch format_watch_;            // streaming thread; the station pops its events
   mutable ReceiveSocketWatch sockets_;  // measured from const stats() too: it locks itself

@@ -9,6 +9,7 @@
 
 #include "drivers/gobject_ptr.h"
 #include "drivers/gst/gst_ptr.h"
+#include "drivers/rtp/access_unit_mark.h"
 #include "drivers/rtp/rtp_camera.h"
 
 namespace hd::drivers {
@@ -30,7 +31,7 @@ void RtpCamera::on_packet_lost() {
   heal_.lost();
 }
 
-bool RtpCamera::judge_access_unit(GstPad* pad, GstBuffer* buffer) {
+bool RtpCamera::judge_access_unit(GstPad* pad, GstBuffer*& buffer) {
   H264AccessUnitInfo info;
   GstMapInfo map;
   if (gst_buffer_map(buffer, &map, GST_MAP_READ)) {
@@ -40,8 +41,6 @@ bool RtpCamera::judge_access_unit(GstPad* pad, GstBuffer* buffer) {
     info.malformed = true;  // unreadable: not known to be whole
   }
   const H264HealWatch::Verdict v = heal_.access_unit(GST_BUFFER_PTS(buffer), info);
-  verdicts_[verdict_next_] = {GST_BUFFER_PTS(buffer), v.whole};
-  verdict_next_ = (verdict_next_ + 1) % verdicts_.size();
   counters_.refresh_frames.store(heal_.refresh_frames(), std::memory_order_relaxed);
   if (v.request_key_frame) {  // from the depayloader's sink, as its request-keyframe did
     const GstElementPtr depay(gst_pad_get_parent_element(pad));
@@ -53,45 +52,15 @@ bool RtpCamera::judge_access_unit(GstPad* pad, GstBuffer* buffer) {
   // A damaged stream that heals only by IDR: nothing after the loss helps the IDR, so the access
   // unit is not decoded at all (as rtph264depay's wait-for-keyframe did). One that heals by
   // refresh needs every access unit decoded: the sweep builds on them.
-  if (v.whole || heal_.heals_by_refresh()) return true;
-  counters_.frames_damaged.fetch_add(1, std::memory_order_relaxed);
-  return false;
-}
-
-std::optional<bool> RtpCamera::whole_picture(uint64_t pts) const {
-  for (const auto& [p, whole] : verdicts_)
-    if (p == pts) return whole;
-  // No verdict: the access unit is older than the 16 newest (a decoder that far behind), had no
-  // PTS, or the decoder put out another PTS (GstVideoDecoder holds its output PTS at the last
-  // one out while its input's go backwards); not known to be whole, so not shown.
-  return std::nullopt;
-}
-
-// GstVideoDecoder never lets its output PTS go back: a frame whose PTS is below the last one out
-// leaves with that one's (gst_video_decoder_prepare_finish_frame). One access unit whose PTS ran
-// ahead (a mutated RTP time the stream guard let through, which the jitter buffer's clock
-// estimate then followed) gave every later frame one PTS for seconds, matching no verdict or
-// stamp: 3.2 s without video was measured after the depayload fuzz. So the decoder is given PTS
-// that only rise, and the frames it puts out are mapped back.
-GstBuffer* RtpCamera::to_decoder_pts(GstBuffer* access_unit) {
-  const GstClockTime pts = GST_BUFFER_PTS(access_unit);
-  if (!GST_CLOCK_TIME_IS_VALID(pts)) return access_unit;
-  if (pts > decoder_pts_ || decoder_pts_ == 0) {
-    decoder_pts_ = pts;
-    return access_unit;
+  if (!v.whole && !heal_.heals_by_refresh()) {
+    counters_.frames_damaged.fetch_add(1, std::memory_order_relaxed);
+    return false;
   }
-  ++decoder_pts_;  // a nanosecond past the newest: never below it
-  moved_pts_[moved_next_] = {decoder_pts_, pts};
-  moved_next_ = (moved_next_ + 1) % moved_pts_.size();
-  access_unit = gst_buffer_make_writable(access_unit);
-  GST_BUFFER_PTS(access_unit) = decoder_pts_;
-  return access_unit;
-}
-
-uint64_t RtpCamera::from_decoder_pts(uint64_t decoder_pts) const {
-  for (const auto& [moved, own] : moved_pts_)
-    if (moved == decoder_pts) return own;
-  return decoder_pts;
+  // The verdict travels with the access unit to its decoded frame (access_unit_mark.h): matching
+  // decoded frames to verdicts by PTS failed after a fuzzed stream, 351 frames without one.
+  buffer = gst_buffer_make_writable(buffer);
+  mark_access_unit(buffer, {GST_BUFFER_PTS(buffer), v.whole});
+  return true;
 }
 
 }  // namespace hd::drivers

@@ -113,7 +113,8 @@ struct RtpCameraStats {
   /// dropped before the decoder (a stream that heals only by IDR) and decoded frames not shown
   /// (one that heals by refresh, whose damaged frames the decoder conceals and the sweep needs).
   uint64_t frames_damaged = 0;
-  /// Decoded frames whose PTS matches no judged access unit: not known to be whole, not shown.
+  /// Decoded frames that carry no access unit's mark (access_unit_mark.h): not known to be whole,
+  /// not shown.
   uint64_t frames_without_verdict = 0;
   /// The stream carries recovery point SEIs outside IDRs (a sender with intra refresh): no key
   /// frame is asked for after a loss (x264enc would answer with another sweep, not an IDR).

@@ -38,9 +38,6 @@ GstBusSyncReply count_jitter_drops(GstBus*, GstMessage* m, gpointer data) {
 
 void RtpCamera::wire(PipelineRunner& p) {
   heal_ = H264HealWatch{};  // a new pipeline's stream starts unhealed (no streaming thread yet)
-  verdicts_.fill({GST_CLOCK_TIME_NONE, false});
-  decoder_pts_ = 0;
-  moved_pts_.fill({GST_CLOCK_TIME_NONE, GST_CLOCK_TIME_NONE});
   const GstElementPtr rtpbin = p.element(rtp_elements::kRtpBin);
   {                              // a new pipeline's multiudpsink has no destination yet
     GObject* session = nullptr;  // session 0 exists: the RTCP pads created it
