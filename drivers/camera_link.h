@@ -5,6 +5,8 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hd::drivers {
 
@@ -14,6 +16,8 @@ namespace hd::drivers {
 struct LinkReport {
   std::string security;  ///< "SRTP AES-128-GCM (key file F)" or "none"
   uint64_t packets = 0, bytes = 0, malformed = 0, srtp_rejected = 0;
+  /// The malformed packets by reason (RtpPacketError's words), reasons with none left out.
+  std::vector<std::pair<std::string, uint64_t>> malformed_by_reason;
   uint64_t frames_stamped = 0;    ///< with the sender's capture time
   uint64_t frames_unstamped = 0;  ///< with their arrival time instead
   uint64_t not_newer = 0;         ///< decoded frames not newer than the last shown: dropped

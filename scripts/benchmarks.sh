@@ -142,20 +142,19 @@ allocations of the consumer's fetch from the mailbox (counting operator new; 0 e
 p99 and max follow the machine's load more than the driver. `docs/devices.md`.
 EOF
 
-bench network hybrid-bench-network "Network hop" \
-  "build/bin/hybrid-bench-network --seconds 10" \
-  "build/bin/hybrid-bench-network --seconds 3" <<'EOF'
-Two 1280x720 60 fps cameras through the station's real path (`RtpSender` → UDP loopback →
-`RtpCamera`, in one process): capture → decoded frame in the mailbox, p50/p95/p99, bytes per
-second and ours stage by stage (capture → encoded → sent → received → decoded → mailbox), beside
-the same encode/send/receive/decode chain as two `gst-launch-1.0` pipelines with the same encoder
-settings, measured by GStreamer's latency tracer (send half + receive half; the peer). Issue 12's
-figure, p50 ≤ 16.7 ms (one frame period), is for an idle machine (load average well below 1);
-on a loaded one quote the ratio ours / peer. Check the frames column before comparing: when the
-machine cannot encode 2 x 60 fps both chains drop frames, and the peer's tracer starts only once
-the encoder takes the buffer, so a saturated peer hides the wait before x264enc that ours counts
-from the capture. The figure depends on the CPU: x264enc is much slower without AVX-512.
-`docs/network.md` "Benchmark: link-added latency".
+bench network hybrid-bench-network "Network hop (the fair link benchmark)" \
+  "build/bin/hybrid-bench-network --seconds 12" \
+  "build/bin/hybrid-bench-network --seconds 4" <<'EOF'
+The same pre-rendered RGBA frames, held in memory, through ours (`RtpSender` → UDP loopback →
+`RtpCamera`'s mailbox) and through a plain GStreamer pipeline with the same caps, the same
+x264enc settings (`h264_encoder_description`) and the same conversions (appsrc RGBA →
+videoconvert → I420 → x264enc → rtph264pay → udpsink | udpsrc → rtpjitterbuffer 20 ms →
+rtph264depay → avdec_h264, one thread → videoconvert → RGBA → appsink), both in this process, in
+interleaved 2 s segments (ours, peer, peer, ours, ...). Both are measured from the capture stamp
+to the decoded RGBA frame available to the consumer (ours: published in the mailbox; the peer: its
+appsink callback), with the process's CPU time per frame pushed beside it. Cases: 1 and 2 cameras
+at 1280x720 60 Hz, 3 at 640x480 30 Hz (the demo's). Ours also runs RTX, the header extensions and
+its checks, which the peer does not. `docs/network.md` "Benchmark: link-added latency".
 EOF
 
 bench view-bandwidth scripts/view-bandwidth.sh "Bandwidth follows the view" \

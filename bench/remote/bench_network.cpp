@@ -1,25 +1,27 @@
-// hybrid-bench-network: two cameras at 1280x720 and 60 fps over loopback through the real path
-// (RtpSender → UDP → RtpCamera), link-added latency (sender capture → decoded frame in the
-// station's mailbox) p50/p95/p99 and bytes per second, beside the same encode/send/receive/decode
-// chain built with gst-launch-1.0 in the same run (two pipelines, both ends in each, measured by
-// GStreamer's latency tracer from videotestsrc to the sink).
-#include <fcntl.h>
+// hybrid-bench-network: the fair link benchmark. The same pre-rendered frames, held in memory,
+// go through our link (RtpSender → UDP loopback → RtpCamera's mailbox) and through a plain
+// GStreamer pipeline with the same caps, encoder settings and conversions (bench/remote/
+// peer_link.h), both in this process, in interleaved segments (ours, peer, peer, ours, ...), each
+// measured from the capture stamp to the decoded RGBA frame available to the consumer, with the
+// process's CPU time per frame beside it. Cases: 1 and 2 cameras at 1280x720 60 Hz, and 3 at
+// 640x480 30 Hz (the demo's).
 #include <netinet/in.h>
-#include <signal.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "bench/remote/peer_link.h"
 #include "drivers/clock/monotonic_clock.h"
 #include "drivers/rtp/rtp_camera.h"
 #include "remote/sender/rtp_sender.h"
@@ -52,11 +54,6 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
 }
 
-void print_row(const char* what, const std::vector<double>& ms, double bytes_per_s) {
-  std::printf("| %s | %zu | %.2f | %.2f | %.2f | %.0f |\n", what, ms.size(), percentile(ms, 0.5),
-              percentile(ms, 0.95), percentile(ms, 0.99), bytes_per_s);
-}
-
 // A moving test image: a bright bar sweeping over a gradient, rewritten in place each frame.
 void draw(hd::drivers::Frame& f, uint64_t n, int camera) {
   const int bar = static_cast<int>((n * 8 + camera * 300) % f.width);
@@ -72,217 +69,219 @@ void draw(hd::drivers::Frame& f, uint64_t n, int camera) {
   }
 }
 
-// The peer: gst-launch-1.0 with both ends in one pipeline and the latency tracer on; returns the
-// latencies (ms) it logged for each half: the tracer measures from a source to a sink, and the
-// UDP hop splits the pipeline into videotestsrc → udpsink (convert, encode, payload) and
-// udpsrc → fakesink (jitter buffer, depayload, decode, convert).
-struct PeerHalves {
-  std::vector<double> send_ms, receive_ms;
+double cpu_s() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         double(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-6;
+}
+
+struct Case {
+  int cameras, width, height, fps;
+  std::string name() const {
+    return std::to_string(cameras) + " x " + std::to_string(width) + "x" + std::to_string(height) +
+           " at " + std::to_string(fps) + " Hz";
+  }
 };
-PeerHalves run_peer(int cameras, double seconds, int width, int height, int fps, int bitrate_kbps,
-                    const std::string& log_dir) {
-  std::vector<pid_t> pids;
-  std::vector<std::string> logs;
-  for (int i = 0; i < cameras; ++i) {
+
+// One chain's figures over all its segments.
+struct Figures {
+  std::vector<double> ms;
+  uint64_t in = 0, out = 0;
+  double cpu_s = 0.0;
+  std::vector<double> stage_ms[5];  // ours only: capture → encoded → sent → received → decoded →
+                                    // in the mailbox
+  double cpu_ms_per_frame() const { return in > 0 ? cpu_s * 1e3 / double(in) : 0.0; }
+};
+
+struct CaseResult {
+  Case c;
+  Figures ours, peer;
+};
+
+enum class Active { kNone, kOurs, kPeer };
+
+CaseResult run_case(const Case& c, double seconds, double segment_s, int bitrate_kbps) {
+  std::vector<std::unique_ptr<hd::drivers::RtpCamera>> cams;
+  std::vector<std::unique_ptr<hd::remote::RtpSender>> senders;
+  std::vector<std::unique_ptr<hd::bench::PeerLink>> peers;
+  for (int i = 0; i < c.cameras; ++i) {
     const uint16_t port = free_port();
-    const std::string log = log_dir + "/peer" + std::to_string(i) + ".log";
-    logs.push_back(log);
-    const std::string caps =
-        "application/x-rtp,media=video,clock-rate=90000,encoding-name=H264,payload=96";
-    const std::string pipeline =
-        "videotestsrc is-live=true pattern=ball ! video/x-raw,format=RGBA,width=" +
-        std::to_string(width) + ",height=" + std::to_string(height) +
-        ",framerate=" + std::to_string(fps) +
-        "/1 ! videoconvert ! video/x-raw,format=I420 ! x264enc tune=zerolatency "
-        "speed-preset=ultrafast bframes=0 key-int-max=" +
-        std::to_string(fps / 2) + " vbv-buf-capacity=" + std::to_string((1000 + fps - 1) / fps) +
-        " bitrate=" + std::to_string(bitrate_kbps) +
-        " ! rtph264pay config-interval=-1 mtu=1200 ! udpsink host=127.0.0.1 port=" +
-        std::to_string(port) +
-        " sync=false async=false udpsrc address=127.0.0.1 port=" + std::to_string(port) +
-        " caps=" + caps +
-        " ! rtpjitterbuffer latency=20 ! rtph264depay ! avdec_h264 max-threads=1 ! videoconvert "
-        "! video/x-raw,format=RGBA ! fakesink sync=false";
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-      ::setenv("GST_TRACERS", "latency", 1);
-      ::setenv("GST_DEBUG", "GST_TRACER:7", 1);
-      ::setenv("GST_DEBUG_FILE", log.c_str(), 1);
-      ::setenv("GST_DEBUG_NO_COLOR", "1", 1);
-      std::vector<std::string> words{"gst-launch-1.0", "-q"};
-      std::string w;
-      for (char c : pipeline) {
-        if (c == ' ') {
-          if (!w.empty()) words.push_back(w);
-          w.clear();
-        } else {
-          w += c;
+    hd::drivers::RtpReceiveConfig rc;
+    rc.listen = {"127.0.0.1", port};
+    cams.push_back(std::make_unique<hd::drivers::RtpCamera>(rc));
+    cams.back()->negotiate({c.width, c.height, {}, 0.0});
+    cams.back()->start();
+    hd::remote::RtpSendConfig sc;
+    sc.port = port;
+    sc.width_px = c.width;
+    sc.height_px = c.height;
+    sc.rate_hz = c.fps;
+    sc.bitrate_kbps = bitrate_kbps;
+    sc.camera_index = static_cast<uint8_t>(i);
+    senders.push_back(std::make_unique<hd::remote::RtpSender>(sc));
+    senders.back()->start();
+    peers.push_back(std::make_unique<hd::bench::PeerLink>(
+        hd::bench::PeerLinkConfig{c.width, c.height, c.fps, bitrate_kbps, free_port()}));
+  }
+  // Drawn before the run and shared by both chains: the "camera" costs what a driver's
+  // hand-over costs, the same for both.
+  std::vector<std::vector<hd::drivers::Frame>> drawn(c.cameras);
+  for (int i = 0; i < c.cameras; ++i) {
+    drawn[i].resize(kDrawnFrames);
+    for (std::size_t n = 0; n < kDrawnFrames; ++n) {
+      drawn[i][n].allocate_rgba(c.width, c.height);
+      draw(drawn[i][n], n, i);
+    }
+  }
+  std::atomic<Active> active{Active::kNone};
+  std::atomic<bool> stop{false};
+  std::atomic<uint64_t> pushed{0};
+  std::vector<std::thread> feeders;
+  for (int i = 0; i < c.cameras; ++i)
+    feeders.emplace_back([&, i] {
+      const auto period = std::chrono::nanoseconds(1'000'000'000 / c.fps);
+      auto next = std::chrono::steady_clock::now();
+      for (uint64_t n = 0; !stop; ++n) {
+        hd::drivers::Frame& f = drawn[i][n % kDrawnFrames];
+        const int64_t now = monotonic_now_ns();  // "captured" now
+        const Active a = active.load();
+        if (a == Active::kOurs) {
+          f.host_timestamp_ns = now;
+          f.sequence = n;
+          senders[i]->push(f);
+        } else if (a == Active::kPeer) {
+          peers[i]->push(f, now);
         }
+        if (a != Active::kNone) pushed.fetch_add(1);
+        next += period;
+        std::this_thread::sleep_until(next);
       }
-      if (!w.empty()) words.push_back(w);
-      std::vector<char*> argv;
-      for (std::string& s : words) argv.push_back(s.data());
-      argv.push_back(nullptr);
-      const int null = ::open("/dev/null", O_WRONLY);
-      ::dup2(null, 1);
-      ::execvp(argv[0], argv.data());
-      ::_exit(127);
+    });
+  CaseResult r{c, {}, {}};
+  auto drain_ours = [&](Figures* into) {
+    hd::drivers::RtpFrameTiming t;
+    for (auto& cam : cams)
+      while (cam->pop_timing(t)) {
+        if (into == nullptr || !t.stamped) continue;
+        ++into->out;
+        into->ms.push_back((t.published_ns - t.capture_ns) * 1e-6);
+        const int64_t at[6] = {t.capture_ns,  t.encoded_ns, t.sent_ns,
+                               t.received_ns, t.decoded_ns, t.published_ns};
+        for (int k = 0; k < 5; ++k)
+          if (at[k] != 0 && at[k + 1] != 0) into->stage_ms[k].push_back((at[k + 1] - at[k]) * 1e-6);
+      }
+  };
+  auto drain_peer = [&](Figures* into) {
+    for (auto& p : peers) {
+      std::vector<double> ms = p->take_latencies_ms();
+      if (into == nullptr) continue;
+      into->out += ms.size();
+      into->ms.insert(into->ms.end(), ms.begin(), ms.end());
     }
-    pids.push_back(pid);
-  }
-  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));  // the measured span
-  for (pid_t p : pids) {
-    ::kill(p, SIGINT);
-    int status = 0;
-    ::waitpid(p, &status, 0);
-  }
-  PeerHalves h;
-  for (const std::string& log : logs) {
-    std::ifstream in(log);
-    for (std::string line; std::getline(in, line);) {
-      if (line.find("latency, src-element-id") == std::string::npos) continue;
-      const std::size_t at = line.find("time=(guint64)");
-      if (at == std::string::npos) continue;
-      const char* text = line.c_str() + at + 14;
-      char* end = nullptr;
-      const double ns = std::strtod(text, &end);
-      if (end == text) continue;  // a line cut short by the kill
-      const double ms = ns * 1e-6;
-      if (line.find("src-element=(string)videotestsrc") != std::string::npos)
-        h.send_ms.push_back(ms);
-      else if (line.find("src-element=(string)udpsrc") != std::string::npos)
-        h.receive_ms.push_back(ms);
+  };
+  const int rounds = std::max(1, static_cast<int>(std::lround(seconds / segment_s)));
+  for (int round = 0; round < rounds; ++round) {
+    for (int k = 0; k < 2; ++k) {
+      const bool ours = (k == 0) == (round % 2 == 0);  // ours, peer, peer, ours, ...
+      active = ours ? Active::kOurs : Active::kPeer;
+      // Warm-up: the chain's first frames after its pause (a key frame asked for, the jitter
+      // buffer's resync) are not measured.
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      drain_ours(nullptr);
+      drain_peer(nullptr);
+      Figures& f = ours ? r.ours : r.peer;
+      const uint64_t pushed0 = pushed.load();
+      const double cpu0 = cpu_s();
+      const int64_t start = monotonic_now_ns();
+      while (monotonic_now_ns() - start < int64_t(segment_s * 1e9)) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        if (ours) drain_ours(&f);
+      }
+      active = Active::kNone;
+      // Frames still in the link count as this segment's (a frame period or two).
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      f.cpu_s += cpu_s() - cpu0;
+      f.in += pushed.load() - pushed0;
+      if (ours)
+        drain_ours(&f);
+      else
+        drain_peer(&f);
+      std::fprintf(stderr, "\r%s: round %d of %d", c.name().c_str(), round + 1, rounds);
     }
   }
-  return h;
+  std::fprintf(stderr, "\n");
+  stop = true;
+  for (auto& t : feeders) t.join();
+  for (auto& s : senders) s->stop();
+  for (auto& cam : cams) cam->stop();
+  return r;
+}
+
+void print_case(const CaseResult& r) {
+  std::printf("\n%s, interleaved segments\n", r.c.name().c_str());
+  std::printf(
+      "| chain | frames in | frames out | p50 ms | p95 ms | p99 ms | CPU ms per frame |\n"
+      "|---|---|---|---|---|---|---|\n");
+  auto row = [](const char* what, const Figures& f) {
+    std::printf("| %s | %llu | %llu | %.2f | %.2f | %.2f | %.2f |\n", what,
+                static_cast<unsigned long long>(f.in), static_cast<unsigned long long>(f.out),
+                percentile(f.ms, 0.5), percentile(f.ms, 0.95), percentile(f.ms, 0.99),
+                f.cpu_ms_per_frame());
+  };
+  row("ours: RtpSender -> RtpCamera mailbox", r.ours);
+  row("peer: GStreamer pipeline -> appsink", r.peer);
+  const auto& s = r.ours.stage_ms;
+  std::printf(
+      "ours stage by stage, p50 ms: capture -%.2f- encoded -%.2f- sent -%.2f- received -%.2f- "
+      "decoded -%.2f- in the mailbox\n",
+      percentile(s[0], 0.5), percentile(s[1], 0.5), percentile(s[2], 0.5), percentile(s[3], 0.5),
+      percentile(s[4], 0.5));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "hybrid-bench-network: link-added latency and bytes/s of the network hop beside a "
-      "gst-launch-1.0 peer"};
+      "hybrid-bench-network: the fair link benchmark, ours (RtpSender -> UDP -> RtpCamera) "
+      "beside a plain GStreamer pipeline with the same caps and encoder settings"};
   app.footer(
-      "Two cameras 1280x720 at 60 fps (the defaults) through RtpSender -> UDP loopback -> "
-      "RtpCamera in this process, then the same chain as two gst-launch-1.0 pipelines; prints "
-      "p50/p95/p99 of capture -> decoded frame in the mailbox, ours stage by stage, and ours / "
-      "peer.\n"
-      "Issue 12's figure (p50 <= 16.7 ms, one frame period) is for an idle machine: check that "
-      "nothing else runs (uptime: load average well below 1 on the 2 cores), then\n"
-      "  build/bin/hybrid-bench-network --seconds 10\n"
-      "On a loaded machine both chains slow down and drop frames: quote the ratio ours / peer.");
-  double seconds = 10.0;
-  int cameras = 2, width = 1280, height = 720, fps = 60, bitrate_kbps = 4000;
-  app.add_option("--seconds", seconds, "measured span per chain")->capture_default_str();
-  app.add_option("--cameras", cameras)->capture_default_str();
-  app.add_option("--width", width)->capture_default_str();
-  app.add_option("--height", height)->capture_default_str();
-  app.add_option("--fps", fps)->capture_default_str();
+      "Both chains run in this process on the same pre-rendered RGBA frames, in interleaved "
+      "segments (ours, peer, peer, ours, ...), each measured from the capture stamp to the "
+      "decoded RGBA frame available to the consumer (ours: published in the camera's mailbox; "
+      "peer: the appsink's callback), with the process's CPU time per frame pushed. Run it on an "
+      "idle machine and quote the ratios:\n"
+      "  build/bin/hybrid-bench-network --seconds 12");
+  double seconds = 12.0, segment_s = 2.0;
+  int bitrate_kbps = 4000;
+  std::string which = "all";
+  app.add_option("--seconds", seconds, "measured time per chain and case")->capture_default_str();
+  app.add_option("--segment-s", segment_s, "length of one measured segment")->capture_default_str();
   app.add_option("--bitrate-kbps", bitrate_kbps)->capture_default_str();
+  app.add_option("--case", which, "all, 1x720p60, 2x720p60 or 3x480p30")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"all", "1x720p60", "2x720p60", "3x480p30"}));
   CLI11_PARSE(app, argc, argv);
 
-  std::vector<std::unique_ptr<hd::drivers::RtpCamera>> cams;
-  std::vector<std::unique_ptr<hd::remote::RtpSender>> senders;
-  for (int i = 0; i < cameras; ++i) {
-    const uint16_t port = free_port();
-    hd::drivers::RtpReceiveConfig rc;
-    rc.listen = {"127.0.0.1", port};
-    cams.push_back(std::make_unique<hd::drivers::RtpCamera>(rc));
-    cams.back()->negotiate({width, height, {}, 0.0});
-    cams.back()->start();
-    hd::remote::RtpSendConfig sc;
-    sc.port = port;
-    sc.width_px = width;
-    sc.height_px = height;
-    sc.rate_hz = fps;
-    sc.bitrate_kbps = bitrate_kbps;
-    sc.camera_index = static_cast<uint8_t>(i);
-    senders.push_back(std::make_unique<hd::remote::RtpSender>(sc));
-    senders.back()->start();
-  }
-  std::atomic<bool> stop{false};
-  std::vector<std::thread> feeders;
-  for (int i = 0; i < cameras; ++i)
-    feeders.emplace_back([&, i] {
-      // Drawn before the run, so the "camera" costs what a driver's hand-over costs (the peer's
-      // videotestsrc is cheap too): the chain measured is the link's.
-      std::vector<hd::drivers::Frame> drawn(kDrawnFrames);
-      for (std::size_t n = 0; n < drawn.size(); ++n) {
-        drawn[n].allocate_rgba(width, height);
-        draw(drawn[n], n, i);
-      }
-      const auto period = std::chrono::nanoseconds(1'000'000'000 / fps);
-      auto next = std::chrono::steady_clock::now();
-      for (uint64_t n = 0; !stop; ++n) {
-        hd::drivers::Frame& f = drawn[n % drawn.size()];
-        f.host_timestamp_ns = monotonic_now_ns();  // "captured" now
-        f.sequence = n;
-        senders[i]->push(f);
-        next += period;
-        std::this_thread::sleep_until(next);
-      }
-    });
-  // Warm-up (encoders start, first key frames), then the measured span.
-  std::this_thread::sleep_for(std::chrono::seconds(1));
-  hd::drivers::RtpFrameTiming t;
-  for (auto& c : cams)
-    while (c->pop_timing(t)) {
+  const std::vector<std::pair<std::string, Case>> all{{"1x720p60", {1, 1280, 720, 60}},
+                                                      {"2x720p60", {2, 1280, 720, 60}},
+                                                      {"3x480p30", {3, 640, 480, 30}}};
+  std::vector<CaseResult> results;
+  for (const auto& [name, c] : all)
+    if (which == "all" || which == name) {
+      results.push_back(run_case(c, seconds, segment_s, bitrate_kbps));
+      print_case(results.back());
     }
-  std::vector<uint64_t> bytes0;
-  for (auto& c : cams) bytes0.push_back(c->stats().bytes);
-  std::vector<double> ms;
-  // The link stage by stage (RtpFrameTiming): capture → encoded → sent → received → decoded →
-  // in the mailbox.
-  std::vector<double> stage_ms[5];
-  uint64_t unstamped = 0;
-  const int64_t start = monotonic_now_ns();
-  while (monotonic_now_ns() - start < int64_t(seconds * 1e9)) {
-    for (auto& c : cams)
-      while (c->pop_timing(t)) {
-        if (!t.stamped) {
-          ++unstamped;
-          continue;
-        }
-        ms.push_back((t.published_ns - t.capture_ns) * 1e-6);
-        const int64_t at[6] = {t.capture_ns,  t.encoded_ns, t.sent_ns,
-                               t.received_ns, t.decoded_ns, t.published_ns};
-        for (int k = 0; k < 5; ++k)
-          if (at[k] != 0 && at[k + 1] != 0) stage_ms[k].push_back((at[k + 1] - at[k]) * 1e-6);
-      }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::printf(
+      "\n%d kbit/s each, x264enc (zerolatency, ultrafast), loopback, %.0f s per chain and case in "
+      "%.1f s segments\n| case | ours p50 ms | peer p50 ms | ours / peer | ours CPU ms/frame | "
+      "peer CPU ms/frame | CPU ours / peer |\n|---|---|---|---|---|---|---|\n",
+      bitrate_kbps, seconds, segment_s);
+  for (const CaseResult& r : results) {
+    const double o = percentile(r.ours.ms, 0.5), p = percentile(r.peer.ms, 0.5);
+    const double oc = r.ours.cpu_ms_per_frame(), pc = r.peer.cpu_ms_per_frame();
+    std::printf("| %s | %.1f | %.1f | %.2f | %.2f | %.2f | %.2f |\n", r.c.name().c_str(), o, p,
+                p > 0 ? o / p : 0.0, oc, pc, pc > 0 ? oc / pc : 0.0);
   }
-  const double span_s = (monotonic_now_ns() - start) * 1e-9;
-  double bytes = 0;
-  for (std::size_t i = 0; i < cams.size(); ++i) bytes += double(cams[i]->stats().bytes - bytes0[i]);
-  stop = true;
-  for (auto& f : feeders) f.join();
-  for (auto& s : senders) s->stop();
-  for (auto& c : cams) c->stop();
-
-  char dir_template[] = "/tmp/hybrid-bench-network-XXXXXX";
-  const char* dir = ::mkdtemp(dir_template);
-  const PeerHalves peer =
-      run_peer(cameras, seconds + 1.0, width, height, fps, bitrate_kbps, dir ? dir : "/tmp");
-
-  std::printf("%d cameras %dx%d at %d fps, %d kbit/s each, loopback, %.1f s measured\n", cameras,
-              width, height, fps, bitrate_kbps, span_s);
-  std::printf(
-      "| chain | frames | p50 ms | p95 ms | p99 ms | bytes/s |\n|---|---|---|---|---|---|\n");
-  print_row("hybrid-remote sender -> RtpCamera mailbox (capture -> mailbox)", ms, bytes / span_s);
-  print_row("peer gst-launch-1.0, latency tracer: videotestsrc -> udpsink", peer.send_ms, 0.0);
-  print_row("peer gst-launch-1.0, latency tracer: udpsrc -> fakesink", peer.receive_ms, 0.0);
-  std::printf(
-      "ours stage by stage, p50 ms: capture -%.2f- encoded -%.2f- sent -%.2f- received -%.2f- "
-      "decoded -%.2f- in the mailbox\n",
-      percentile(stage_ms[0], 0.5), percentile(stage_ms[1], 0.5), percentile(stage_ms[2], 0.5),
-      percentile(stage_ms[3], 0.5), percentile(stage_ms[4], 0.5));
-  if (unstamped > 0)
-    std::printf("(%llu frames without a capture stamp left out)\n",
-                static_cast<unsigned long long>(unstamped));
-  const double peer_p50 = percentile(peer.send_ms, 0.5) + percentile(peer.receive_ms, 0.5);
-  if (peer_p50 > 0 && !ms.empty())
-    std::printf("peer p50 (sum of its halves' p50) %.2f ms; ours / peer %.2f\n", peer_p50,
-                percentile(ms, 0.5) / peer_p50);
   return 0;
 }

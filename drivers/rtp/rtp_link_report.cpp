@@ -16,6 +16,10 @@ LinkReport RtpCamera::link_report() const {
   r.packets = st.packets;
   r.bytes = st.bytes;
   r.malformed = st.malformed_total;
+  for (std::size_t i = 0; i < st.malformed.size(); ++i)
+    if (st.malformed[i] > 0)
+      r.malformed_by_reason.emplace_back(to_string(static_cast<RtpPacketError>(i)),
+                                         st.malformed[i]);
   r.srtp_rejected = st.srtp_rejected;
   r.frames_stamped = st.stamped_frames;
   r.frames_unstamped = st.unstamped_frames;

@@ -205,11 +205,14 @@ void write_summary_json(const RunSummary& s, const std::string& path) {
   for (const RunSummary::Camera& c : s.cameras) {
     if (!c.network) continue;
     const RunSummary::NetworkCamera& n = *c.network;
+    nlohmann::json malformed_by_reason = nlohmann::json::object();
+    for (const auto& [reason, count] : n.malformed_by_reason) malformed_by_reason[reason] = count;
     network.push_back({{"camera", c.name},
                        {"security", n.security},
                        {"packets", n.packets},
                        {"bytes", n.bytes},
                        {"malformed_packets", n.malformed},
+                       {"malformed_by_reason", malformed_by_reason},
                        {"srtp_rejected_packets", n.srtp_rejected},
                        {"frames_with_capture_time", n.frames_stamped},
                        {"frames_with_arrival_time", n.frames_unstamped},

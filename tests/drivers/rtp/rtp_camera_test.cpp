@@ -7,6 +7,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -108,6 +109,17 @@ TEST(RtpCamera, GarbageDatagramsAreCountedByReasonAndDroppedAndVideoStillArrives
   EXPECT_EQ(count(RtpPacketError::kCsrcOverrun), uint64_t{kEach});
   EXPECT_EQ(count(RtpPacketError::kExtensionOverrun), uint64_t{kEach});
   EXPECT_EQ(cam.stats().malformed_total, 4u * kEach);
+  // The station's summary names them the same way (LinkReport::malformed_by_reason).
+  const std::vector<std::pair<std::string, uint64_t>> expected{
+      {std::string(to_string(RtpPacketError::kTooShort)), kEach},
+      {std::string(to_string(RtpPacketError::kBadVersion)), kEach},
+      {std::string(to_string(RtpPacketError::kCsrcOverrun)), kEach},
+      {std::string(to_string(RtpPacketError::kExtensionOverrun)), kEach}};
+  std::vector<std::pair<std::string, uint64_t>> reported = cam.link_report().malformed_by_reason;
+  std::sort(reported.begin(), reported.end());
+  std::vector<std::pair<std::string, uint64_t>> sorted = expected;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(reported, sorted);
   EXPECT_EQ(cam.stats().frames_published, 0u);
   EXPECT_NE(cam.state(), SourceState::kStreaming);
 
