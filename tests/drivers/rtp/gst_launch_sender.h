@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,17 +18,15 @@ namespace hd::drivers::testing {
 
 /// An even port P on 127.0.0.1 with P and P + 1 free now (bound and released).
 inline uint16_t free_rtp_port() {
-  for (int attempt = 0; attempt < 64; ++attempt) {
-    int probe = ::socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t len = sizeof a;
-    ::bind(probe, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    ::getsockname(probe, reinterpret_cast<sockaddr*>(&a), &len);
-    ::close(probe);
-    const uint16_t p = static_cast<uint16_t>(ntohs(a.sin_port) & ~1u);
-    if (p < 1024) continue;
+  // From below the kernel's ephemeral range (32768-60999 here): a port the kernel handed out
+  // for port 0 and this probe let go could be handed to any other socket bound to port 0 (a
+  // sender's, an RTCP socket) before the camera binds it; under ctest -j2 that failed a test
+  // with "cannot listen" (2026-12-05). A random even port of 20000-32698, checked with its
+  // RTCP neighbour, collides only with another test that drew the same one.
+  static std::mt19937 pick(static_cast<uint32_t>(::getpid()) * 2654435761u ^
+                           static_cast<uint32_t>(std::random_device{}()));
+  for (int attempt = 0; attempt < 256; ++attempt) {
+    const uint16_t p = static_cast<uint16_t>(20000 + 2 * (pick() % 6350));
     bool ok = true;
     for (uint16_t q : {p, static_cast<uint16_t>(p + 1)}) {
       int s = ::socket(AF_INET, SOCK_DGRAM, 0);
