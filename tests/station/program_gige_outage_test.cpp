@@ -27,6 +27,7 @@
 #include "render/latency/latency_recorder.h"
 #include "support/text_file.h"
 #include "test_paths.h"
+#include "test_spawn.h"
 
 namespace {
 
@@ -43,21 +44,11 @@ class Station {
  public:
   explicit Station(const std::vector<std::string>& args) {
     int fds[2];
-    if (::pipe(fds) != 0) throw std::runtime_error("pipe failed");
-    pid_ = ::fork();
-    if (pid_ < 0) throw std::runtime_error("fork failed");
-    if (pid_ == 0) {
-      ::dup2(fds[1], 1);
-      ::dup2(fds[1], 2);
-      ::close(fds[0]);
-      ::close(fds[1]);
-      std::vector<char*> argv;
-      argv.push_back(const_cast<char*>(hd::test::station_bin()));
-      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(hd::test::station_bin(), argv.data());
-      ::_exit(127);
-    }
+    if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
+    std::vector<std::string> words{hd::test::station_bin()};
+    words.insert(words.end(), args.begin(), args.end());
+    pid_ = hd::test::spawn(words, {fds[1], {}, true});
+    if (pid_ < 0) throw std::runtime_error(std::string("could not start ") + words[0]);
     ::close(fds[1]);
     out_ = ::fdopen(fds[0], "r");
   }

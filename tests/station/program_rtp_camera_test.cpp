@@ -34,21 +34,11 @@ class StationProcess {
  public:
   explicit StationProcess(const std::vector<std::string>& args, const fs::path& err) {
     int fds[2];
-    EXPECT_EQ(::pipe(fds), 0);
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::dup2(fds[1], 1);
-      const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(e, 2);
-      ::close(fds[0]);
-      std::vector<std::string> words{hd::test::station_bin()};
-      words.insert(words.end(), args.begin(), args.end());
-      std::vector<char*> argv;
-      for (std::string& w : words) argv.push_back(w.data());
-      argv.push_back(nullptr);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
+    EXPECT_EQ(::pipe2(fds, O_CLOEXEC), 0);
+    std::vector<std::string> words{hd::test::station_bin()};
+    words.insert(words.end(), args.begin(), args.end());
+    pid_ = hd::test::spawn(words, {fds[1], err.string()});
+    EXPECT_GT(pid_, 0) << "could not start " << words[0];
     ::close(fds[1]);
     out_ = ::fdopen(fds[0], "r");
   }

@@ -9,8 +9,6 @@
 // pairs, and no frame marked video or hybrid whose video was older than the age rule allows.
 #include <gtest/gtest.h>
 
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -27,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/rtp/gst_launch_sender.h"
 #include "render/latency/latency_recorder.h"
 #include "support/program_process.h"
 #include "support/text_file.h"
@@ -40,27 +39,6 @@ using hd::station::testing::replaced;
 using hd::station::testing::slurp;
 
 constexpr double kCameraRateHz = 15.0;
-
-// A base port whose next `count` loopback UDP ports are all free now (camera i: base + 2 i and
-// its RTCP port), or 0.
-uint16_t free_port_run(int count) {
-  for (int base = 20000 + 16 * (::getpid() % 1000); base < 60000; base += 16) {
-    bool ok = true;
-    std::vector<int> held;
-    for (int p = base; p < base + count && ok; ++p) {
-      const int s = ::socket(AF_INET, SOCK_DGRAM, 0);
-      held.push_back(s);
-      sockaddr_in a{};
-      a.sin_family = AF_INET;
-      a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-      a.sin_port = htons(static_cast<uint16_t>(p));
-      ok = ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-    }
-    for (int s : held) ::close(s);
-    if (ok) return static_cast<uint16_t>(base);
-  }
-  return 0;
-}
 
 int64_t clock_ns(clockid_t id) {
   timespec t{};
@@ -111,7 +89,7 @@ TEST(StationTwoProcesses, TheRemotesCamerasAreShownReconstructedAndNeverShownOld
   std::ofstream(dir / "scene.yaml") << scene;
   // Its image textures are named relative to the scene file: beside the copy, they are found.
   fs::copy(fs::path(hd::test::source_dir()) / "scenes" / "textures", dir / "textures");
-  const uint16_t port = free_port_run(6);
+  const uint16_t port = hd::drivers::testing::free_rtp_port(3);
   ASSERT_NE(port, 0);
   const std::string to = "rtp://127.0.0.1:" + std::to_string(port);
   // Scene t = 0 shortly ahead; both programs wait for it (a late start only joins later).

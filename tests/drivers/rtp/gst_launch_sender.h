@@ -1,6 +1,6 @@
 #pragma once
 // A real RTP peer for the tests: gst-launch-1.0 run as a child process with a given pipeline,
-// and a free pair of loopback UDP ports (RTP, RTCP) for it to send to.
+// and a free run of loopback UDP ports (RTP and RTCP per camera) for it to send to.
 
 #include <netinet/in.h>
 #include <signal.h>
@@ -14,30 +14,35 @@
 #include <string>
 #include <vector>
 
+#include "test_spawn.h"
+
 namespace hd::drivers::testing {
 
-/// An even port P on 127.0.0.1 with P and P + 1 free now (bound and released).
-inline uint16_t free_rtp_port() {
+/// A base port P on 127.0.0.1 for `cameras` RTP streams (camera i: P + 2 i, its RTCP P + 2 i + 1),
+/// all free now (bound and released).
+inline uint16_t free_rtp_port(int cameras = 3) {
   // From below the kernel's ephemeral range (32768-60999 here): a port the kernel handed out
   // for port 0 and this probe let go could be handed to any other socket bound to port 0 (a
   // sender's, an RTCP socket) before the camera binds it; under ctest -j2 that failed a test
-  // with "cannot listen" (2026-12-05). A random even port of 20000-32698, checked with its
-  // RTCP neighbour, collides only with another test that drew the same one.
+  // with "cannot listen" (2026-12-05). Bases are multiples of 8 and a default-scene sender uses
+  // 6 ports, so two tests' runs never overlap in part: a sender's camera 1 or 2, with no one
+  // listening yet, cannot be another test's camera 0. The default of 3 is the default scene's.
   static std::mt19937 pick(static_cast<uint32_t>(::getpid()) * 2654435761u ^
                            static_cast<uint32_t>(std::random_device{}()));
+  if (cameras < 1 || cameras > 4) return 0;
   for (int attempt = 0; attempt < 256; ++attempt) {
-    const uint16_t p = static_cast<uint16_t>(20000 + 2 * (pick() % 6350));
+    const int base = 20000 + 8 * static_cast<int>(pick() % 1595);
     bool ok = true;
-    for (uint16_t q : {p, static_cast<uint16_t>(p + 1)}) {
-      int s = ::socket(AF_INET, SOCK_DGRAM, 0);
+    for (int q = base; q < base + 2 * cameras && ok; ++q) {
+      const int s = ::socket(AF_INET, SOCK_DGRAM, 0);
       sockaddr_in b{};
       b.sin_family = AF_INET;
       b.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-      b.sin_port = htons(q);
-      ok = ok && ::bind(s, reinterpret_cast<sockaddr*>(&b), sizeof b) == 0;
+      b.sin_port = htons(static_cast<uint16_t>(q));
+      ok = ::bind(s, reinterpret_cast<sockaddr*>(&b), sizeof b) == 0;
       ::close(s);
     }
-    if (ok) return p;
+    if (ok) return static_cast<uint16_t>(base);
   }
   return 0;
 }
@@ -52,16 +57,7 @@ inline std::string plain_sender_pipeline(uint16_t port) {
 /// A child process (argv[0] looked up in PATH) killed and reaped when destroyed.
 class ChildProcess {
  public:
-  explicit ChildProcess(std::vector<std::string> words) {
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      std::vector<char*> argv;
-      for (std::string& w : words) argv.push_back(w.data());
-      argv.push_back(nullptr);
-      ::execvp(argv[0], argv.data());
-      ::_exit(127);
-    }
-  }
+  explicit ChildProcess(const std::vector<std::string>& words) : pid_(hd::test::spawn(words)) {}
   ~ChildProcess() { stop(); }
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;

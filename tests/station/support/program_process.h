@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "test_spawn.h"
+
 namespace hd::station::testing {
 
 class ProgramProcess {
@@ -24,21 +26,11 @@ class ProgramProcess {
   ProgramProcess(const std::string& program, const std::vector<std::string>& args,
                  const std::filesystem::path& err) {
     int fds[2];
-    EXPECT_EQ(::pipe(fds), 0);
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::dup2(fds[1], 1);
-      const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(e, 2);
-      ::close(fds[0]);
-      std::vector<std::string> words{program};
-      words.insert(words.end(), args.begin(), args.end());
-      std::vector<char*> argv;
-      for (std::string& w : words) argv.push_back(w.data());
-      argv.push_back(nullptr);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
+    EXPECT_EQ(::pipe2(fds, O_CLOEXEC), 0);
+    std::vector<std::string> words{program};
+    words.insert(words.end(), args.begin(), args.end());
+    pid_ = hd::test::spawn(words, {fds[1], err.string()});
+    EXPECT_GT(pid_, 0) << "could not start " << program;
     ::close(fds[1]);
     out_ = ::fdopen(fds[0], "r");
   }
