@@ -312,7 +312,8 @@ void RtpCamera::on_decoded(GstBuffer* buffer) {
     stamper_.add_decoded(mark->pts, monotonic_now_ns());
 }
 
-// The appsink's streaming thread: no allocation here once the mailbox's slots are sized.
+// The appsink's streaming thread: no allocation here once the mailbox's slots are sized and the
+// converter built (once per decoder format).
 void RtpCamera::on_sample(GstElement* sink) {
   const GstSamplePtr sample(gst_app_sink_pull_sample(GST_APP_SINK(sink)));
   if (!sample) return;
@@ -353,12 +354,12 @@ void RtpCamera::on_sample(GstElement* sink) {
     slot.allocate_rgba(w, h);
     ++sized_slots_;
   }
-  const uint8_t* src = static_cast<const uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&vf, 0));
-  const int src_stride = GST_VIDEO_FRAME_PLANE_STRIDE(&vf, 0);
-  for (int y = 0; y < h; ++y)
-    std::memcpy(slot.data.data() + std::size_t(y) * slot.stride_bytes,
-                src + std::size_t(y) * src_stride, std::size_t(w) * 4);
+  const bool converted = to_rgba_.to_rgba(&vf, slot);
   gst_video_frame_unmap(&vf);
+  if (!converted) {
+    counters_.wrong_format.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
   const RtpStampedFrame t = stamper_.frame(
       GST_CLOCK_TIME_IS_VALID(mark->pts) ? std::optional<uint64_t>(mark->pts) : std::nullopt, now);
   slot.calibration =

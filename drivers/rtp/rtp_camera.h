@@ -18,6 +18,7 @@
 #include "drivers/format_watch.h"
 #include "drivers/gobject_ptr.h"
 #include "drivers/gst/pipeline_runner.h"
+#include "drivers/gst/rgba_converter.h"
 #include "drivers/rtp/clock_offset_estimator.h"
 #include "drivers/rtp/frame_end_requester.h"
 #include "drivers/rtp/h264_heal_watch.h"
@@ -212,6 +213,7 @@ class RtpCamera final : public CameraSource, public CameraLink {
   int learned_width_ = 0, learned_height_ = 0;
   uint64_t sequence_ = 0;
   int sized_slots_ = 0;
+  RgbaConverter to_rgba_;
 
   RtpCameraCounters counters_;
   // The media SSRC, sequence numbers and RTP times taken (udpsrc's streaming thread, or

@@ -81,7 +81,7 @@ struct RtpCameraStats {
   ///   and converts, fell behind);
   uint64_t jitter_too_late = 0, jitter_over_latency = 0;
   /// - packets out of the jitter buffer into the depayloader; frames out of avdec_h264; frames
-  ///   into the appsink callback after videoconvert (decoded - converted: dropped in between;
+  ///   into the appsink callback (decoded - converted: dropped in between;
   ///   the appsink's max-buffers=1 drop=true never drops, as the callback pulls each sample
   ///   before the next can come); then not_newer, wrong_format and calibration_size_mismatch
   ///   are not published.

@@ -27,11 +27,11 @@ inline constexpr const char* kFecDecoder = "fecdec";  ///< inside rtpbin, behind
 
 /// udpsrc (RTP; kernel buffer receive_buffer_bytes) [→ netsim] → rtpbin (jitter buffer,
 /// NACK/RTX) → queue (a thread of its own for what follows) → rtph264depay (asks for a key frame on
-/// loss) → avdec_h264 (one thread: no frame-threading delay) → videoconvert → RGBA → appsink (no
-/// clock sync, newest frame only); udpsrc (RTCP) → rtpbin → multiudpsink (RTCP receiver reports and
-/// feedback to wherever the sender's RTCP comes from). With a key, srtpdec sits between both
-/// udpsrcs and rtpbin; the key is not in the description (the camera hands it to srtpdec's
-/// request-key signal), so the description can be shown.
+/// loss) → avdec_h264 (one thread: no frame-threading delay) → appsink (no clock sync, newest
+/// frame only; RtpCamera converts to RGBA straight into its mailbox); udpsrc (RTCP) → rtpbin →
+/// multiudpsink (RTCP receiver reports and feedback to wherever the sender's RTCP comes from). With
+/// a key, srtpdec sits between both udpsrcs and rtpbin; the key is not in the description (the
+/// camera hands it to srtpdec's request-key signal), so the description can be shown.
 ///
 /// The media chain (udpsrc [→ srtpdec] [→ netsim]) ends unlinked: the camera links
 /// receive_media_link() to rtpbin.recv_rtp_sink_0 after connecting its request-aux-receiver
@@ -42,8 +42,9 @@ std::string receive_pipeline_description(const RtpReceiveConfig& c);
 int initial_latency_ms(const RtpReceiveConfig& c);
 
 /// The part after rtpbin, as receive_pipeline_description() builds it: the depayloader
-/// (rtph264depay, named kDepayloader) and the decoder to RGBA (avdec_h264 named kDecoder →
-/// videoconvert), each a gst_parse_launch fragment (the fuzz test feeds them directly).
+/// (rtph264depay, named kDepayloader) and the decoder (avdec_h264 named kDecoder, its own raw
+/// format: RtpCamera converts to RGBA into its mailbox), each a gst_parse_launch fragment (the
+/// fuzz test feeds them directly).
 std::string depayloader_description();
 std::string decoder_description();
 /// The element and pad that feed rtpbin.recv_rtp_sink_0. netsim sits before rtpbin (and so

@@ -27,10 +27,9 @@ std::string send_pipeline_description(const RtpSendConfig& c) {
   d += std::string("rtpbin name=") + kRtpBin + " rtp-profile=avpf update-ntp64-header-ext=false ";
   d += std::string("appsrc name=") + kAppSource +
        " is-live=true format=time do-timestamp=false max-buffers=2 leaky-type=downstream "
-       "caps=video/x-raw,format=RGBA,width=" +
-       std::to_string(c.width_px) + ",height=" + std::to_string(c.height_px) +
-       ",framerate=" + std::to_string(fps_n) + "/1000 ";
-  d += "! videoconvert ! video/x-raw,format=" + h264_encoder_input_format(c.encoder) + " ";
+       "caps=video/x-raw,format=" +
+       h264_encoder_input_format(c.encoder) + ",width=" + std::to_string(c.width_px) +
+       ",height=" + std::to_string(c.height_px) + ",framerate=" + std::to_string(fps_n) + "/1000 ";
   if (c.intra_refresh && c.encoder != kSoftwareH264Encoder)
     throw std::invalid_argument("intra refresh needs x264enc, not " + c.encoder);
   d += "! " +

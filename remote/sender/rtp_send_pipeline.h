@@ -24,9 +24,9 @@ inline constexpr const char* kRtxSend = "rtxsend";
 inline constexpr const char* kFecEncoder = "fecenc";
 }  // namespace send_elements
 
-/// appsrc (RGBA, live, the newest 2 frames) → videoconvert → I420 → x264enc (zerolatency,
-/// ultrafast, no B-frames, key frame every key_int_frames, VBV one frame) → rtph264pay (SPS/PPS
-/// with every IDR) → rtpbin (RTCP sender reports) → [srtpenc] → udpsink host:port; RTCP →
+/// appsrc (the encoder's format, I420 for x264enc, which push() converts each RGBA frame to;
+/// live, the newest 2 frames) → x264enc (zerolatency, ultrafast, no B-frames, key frame every
+/// key_int_frames, VBV one frame) → rtph264pay (SPS/PPS with every IDR) → rtpbin (RTCP sender reports) → [srtpenc] → udpsink host:port; RTCP →
 /// [srtpenc] → udpsink port + 1; the station's RTCP → [srtpdec] → rtpbin. The key is not in the
 /// description (RtpSender sets it).
 /// The payloader's src pad is left unlinked: RtpSender links it to rtpbin's send_rtp_sink_0

@@ -68,6 +68,7 @@ bool RtpSender::set_calibration(const core::Pinhole& p_c, const core::Pose& T_wo
 
 RtpSender::~RtpSender() {
   stop();
+  if (ntp_caps_ != nullptr) gst_caps_unref(ntp_caps_);
   if (appsrc_ != nullptr) gst_object_unref(appsrc_);
   if (rtxsend_ != nullptr) gst_object_unref(rtxsend_);
   if (pipeline_ != nullptr) gst_object_unref(pipeline_);
@@ -94,6 +95,15 @@ void RtpSender::start() {
     gst_pipeline_use_clock(GST_PIPELINE(pipeline_), clock);
     gst_object_unref(clock);
     appsrc_ = by_name(pipeline_, send_elements::kAppSource);
+    {  // push() converts each RGBA frame into appsrc's format (no videoconvert, no copy)
+      GstCaps* caps = gst_app_src_get_caps(GST_APP_SRC(appsrc_));
+      const bool ok = input_.configure(caps);
+      if (caps != nullptr) gst_caps_unref(caps);
+      if (!ok)
+        throw std::runtime_error("stream to " + where +
+                                 ": cannot make buffers of the encoder's input format");
+    }
+    ntp_caps_ = gst_caps_new_empty_simple("timestamp/x-ntp");
 
     if (config_.srtp_key) {
       GstElement* enc = by_name(pipeline_, send_elements::kSrtpEncoder);
@@ -272,32 +282,27 @@ bool RtpSender::push(const drivers::Frame& f) {
     skipped_.fetch_add(1, std::memory_order_relaxed);
     return true;  // taken, not sent: the station does not need every frame of this camera
   }
-  const std::size_t row = std::size_t(f.width) * 4;
-  GstBuffer* b = gst_buffer_new_allocate(nullptr, row * f.height, nullptr);
-  GstMapInfo map;
-  gst_buffer_map(b, &map, GST_MAP_WRITE);
-  for (int y = 0; y < f.height; ++y)
-    std::memcpy(map.data + row * y, f.data.data() + std::size_t(f.stride_bytes) * y, row);
-  gst_buffer_unmap(b, &map);
+  GstBuffer* b = input_.convert(f);
+  if (b == nullptr) {
+    refused_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
   GST_BUFFER_PTS(b) = static_cast<GstClockTime>(running);
   GST_BUFFER_DURATION(b) = static_cast<GstClockTime>(1e9 / config_.rate_hz);
-  {  // the capture time on CLOCK_REALTIME, ns since the NTP epoch (rtphdrextntp64's input)
-    GstCaps* caps = gst_caps_new_empty_simple("timestamp/x-ntp");
-    gst_buffer_add_reference_timestamp_meta(
-        b, caps,
-        static_cast<GstClockTime>(f.host_timestamp_ns + realtime_minus_monotonic_ns() +
-                                  config_.test_clock_shift_ns +
-                                  drivers::kNtpUnixOffsetS * 1'000'000'000LL),
-        GST_CLOCK_TIME_NONE);
-    gst_caps_unref(caps);
-  }
+  // The capture time on CLOCK_REALTIME, ns since the NTP epoch (rtphdrextntp64's input).
+  gst_buffer_add_reference_timestamp_meta(
+      b, ntp_caps_,
+      static_cast<GstClockTime>(f.host_timestamp_ns + realtime_minus_monotonic_ns() +
+                                config_.test_clock_shift_ns +
+                                drivers::kNtpUnixOffsetS * 1'000'000'000LL),
+      GST_CLOCK_TIME_NONE);
   gst_app_src_push_buffer(GST_APP_SRC(appsrc_), b);  // takes the buffer
   pushed_.fetch_add(1, std::memory_order_relaxed);
   return true;
 }
 
 // The encoded frame, before the payloader: the capture time push() attached (a reference
-// timestamp meta, which videoconvert and x264enc carry over) is what rtphdrextntp64 writes.
+// timestamp meta, which x264enc carries over) is what rtphdrextntp64 writes.
 GstPadProbeReturn RtpSender::on_encoded(GstPadProbeInfo* info) {
   GstBuffer* b = GST_PAD_PROBE_INFO_BUFFER(info);
   const uint64_t index = frames_encoded_.fetch_add(1, std::memory_order_relaxed);
@@ -308,16 +313,14 @@ GstPadProbeReturn RtpSender::on_encoded(GstPadProbeInfo* info) {
   encoded_pts_ = GST_BUFFER_PTS(b);
   encoded_mono_ns_ = drivers::monotonic_now_ns();
   encoded_capture_ns_ = 0;
-  GstCaps* caps = gst_caps_new_empty_simple("timestamp/x-ntp");
   // x264enc shifts its output PTS (by 1000 h, its min-pts), so the capture time comes from the
   // meta: back from CLOCK_REALTIME (+ the test shift) in the NTP epoch to CLOCK_MONOTONIC.
-  if (const GstReferenceTimestampMeta* m = gst_buffer_get_reference_timestamp_meta(b, caps)) {
+  if (const GstReferenceTimestampMeta* m = gst_buffer_get_reference_timestamp_meta(b, ntp_caps_)) {
     frames_stamped_.fetch_add(1, std::memory_order_relaxed);
     encoded_capture_ns_ = static_cast<int64_t>(m->timestamp) -
                           drivers::kNtpUnixOffsetS * 1'000'000'000LL -
                           realtime_minus_monotonic_ns() - config_.test_clock_shift_ns;
   }
-  gst_caps_unref(caps);
   return GST_PAD_PROBE_OK;
 }
 

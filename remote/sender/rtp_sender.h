@@ -14,6 +14,7 @@
 #include "drivers/frame.h"
 #include "drivers/rtp/rtp_calibration.h"
 #include "drivers/rtp/view_feedback.h"
+#include "remote/sender/encoder_input.h"
 #include "remote/sender/rtp_send_config.h"
 
 namespace hd::remote {
@@ -63,8 +64,9 @@ class RtpSender {
 
   void start();  ///< throws std::runtime_error naming the destination
   void stop();
-  /// Copies `f` (RGBA8 at the configured size) into a GStreamer buffer and queues it; never
-  /// blocks (a full queue drops its oldest frame). False when refused.
+  /// Converts `f` (RGBA8 at the configured size) into the encoder's input format, in a reused
+  /// buffer, and queues it; never blocks (a full queue drops its oldest frame). False when
+  /// refused.
   bool push(const drivers::Frame& f);
 
   /// A new p_c / P_c (a recalibration, or a camera that moved): the revision goes up by one and
@@ -96,6 +98,8 @@ class RtpSender {
   GstElement* pipeline_ = nullptr;
   GstElement* appsrc_ = nullptr;
   GstElement* rtxsend_ = nullptr;  // inside rtpbin's aux sender (retransmission only)
+  EncoderInput input_;             // push()'s thread
+  GstCaps* ntp_caps_ = nullptr;    // timestamp/x-ntp: the capture time meta's reference
   GstClockTime base_time_ = 0;
   bool playing_ = false;
   std::atomic<uint64_t> pushed_{0}, refused_{0}, packets_stamped_{0}, frames_stamped_{0},
