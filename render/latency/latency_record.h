@@ -32,6 +32,11 @@ struct LatencyRecord {
   int64_t video_sent_ns = 0;
   int64_t video_received_ns = 0;
   int64_t video_decoded_ns = 0;
+  /// The drawn model's stages after its capture (model_capture_ns): its reconstruction ended
+  /// (0: none in that update) → it was in the model (published) → shown (predicted_display_ns).
+  /// 0: the a-priori model, or no model updater.
+  int64_t model_reconstructed_ns = 0;
+  int64_t model_published_ns = 0;
 };
 
 enum class LatencyMetric : uint8_t {
@@ -46,6 +51,10 @@ enum class LatencyMetric : uint8_t {
   kLinkNetwork,  ///< sent → received (network, with the clock offset's error)
   kLinkDecode,   ///< received → decoded (jitter buffer, depayload, decode)
   kLinkShow,     ///< decoded → shown (convert, mailbox, render, the display's wait)
+  // The model, stage by stage (records of an updated model only).
+  kModelReconstruct,  ///< capture → reconstructed (stereo; records whose update reconstructed)
+  kModelPublish,      ///< capture → in the model (the snapshot published)
+  kModelShow,         ///< in the model → shown
 };
 
 /// to - from when both stages are stamped.
@@ -88,6 +97,12 @@ inline bool latency_of(const LatencyRecord& r, LatencyMetric m, int64_t& out_ns)
       return link_stage(r.video_received_ns, r.video_decoded_ns, out_ns);
     case LatencyMetric::kLinkShow:
       return link_stage(r.video_decoded_ns, r.predicted_display_ns, out_ns);
+    case LatencyMetric::kModelReconstruct:
+      return link_stage(r.model_capture_ns, r.model_reconstructed_ns, out_ns);
+    case LatencyMetric::kModelPublish:
+      return link_stage(r.model_capture_ns, r.model_published_ns, out_ns);
+    case LatencyMetric::kModelShow:
+      return link_stage(r.model_published_ns, r.predicted_display_ns, out_ns);
   }
   return false;
 }

@@ -17,8 +17,9 @@ namespace {
 constexpr const char* kCsvHeader =
     "frame,pose_sample_ns,video_ns,video_is_exposure,texture_update_ns,render_start_ns,"
     "render_end_ns,swap_ns,predicted_display_ns,missed_deadline,model_capture_ns,"
-    "video_encoded_ns,video_sent_ns,video_received_ns,video_decoded_ns";
-constexpr int kCsvColumns = 15;
+    "video_encoded_ns,video_sent_ns,video_received_ns,video_decoded_ns,model_reconstructed_ns,"
+    "model_published_ns";
+constexpr int kCsvColumns = 17;
 
 // Commits a finished temp file under its final name, or removes it and says why.
 void commit_file(const std::string& tmp, const std::string& path) {
@@ -106,7 +107,8 @@ void LatencyRecorder::write_csv(const std::string& path) const {
         << int{r.video_is_exposure} << ',' << r.texture_update_ns << ',' << r.render_start_ns << ','
         << r.render_end_ns << ',' << r.swap_ns << ',' << r.predicted_display_ns << ','
         << int{r.missed_deadline} << ',' << r.model_capture_ns << ',' << r.video_encoded_ns << ','
-        << r.video_sent_ns << ',' << r.video_received_ns << ',' << r.video_decoded_ns << "\n";
+        << r.video_sent_ns << ',' << r.video_received_ns << ',' << r.video_decoded_ns << ','
+        << r.model_reconstructed_ns << ',' << r.model_published_ns << "\n";
     }
     f.flush();
     if (!f) {
@@ -163,6 +165,8 @@ std::vector<LatencyRecord> LatencyRecorder::read_csv(const std::string& path) {
     r.video_sent_ns = v[12];
     r.video_received_ns = v[13];
     r.video_decoded_ns = v[14];
+    r.model_reconstructed_ns = v[15];
+    r.model_published_ns = v[16];
     out.push_back(r);
   }
   return out;
@@ -279,6 +283,25 @@ void LatencyRecorder::write_png(const std::string& path) const {
     cv::rectangle(img, {L.x + 5, L.y + 75}, {L.x + L.width - 5, L.y + 95},
                   cv::Scalar(255, 255, 255), cv::FILLED);
     cv::putText(img, link, {L.x + 10, L.y + 90}, font, 0.42, colours[2], 1, cv::LINE_AA);
+  }
+  // An updated model: its stages, p50 of each (reconstruction only over updates that had one).
+  const LatencyStats recon = stats(LatencyMetric::kModelReconstruct),
+                     in_model = stats(LatencyMetric::kModelPublish),
+                     shown = stats(LatencyMetric::kModelAge);
+  if (in_model.count > 0) {
+    char line[200];
+    if (recon.count > 0)
+      std::snprintf(line, sizeof line,
+                    "model, p50 ms after capture: reconstructed %.0f, in the model %.0f, shown "
+                    "%.0f (%zu frames)",
+                    recon.p50_ms, in_model.p50_ms, shown.p50_ms, in_model.count);
+    else
+      std::snprintf(line, sizeof line,
+                    "model, p50 ms after capture: in the model %.0f, shown %.0f (%zu frames)",
+                    in_model.p50_ms, shown.p50_ms, in_model.count);
+    cv::rectangle(img, {L.x + 5, L.y + 97}, {L.x + L.width - 5, L.y + 117},
+                  cv::Scalar(255, 255, 255), cv::FILLED);
+    cv::putText(img, line, {L.x + 10, L.y + 112}, font, 0.42, black, 1, cv::LINE_AA);
   }
 
   // imwrite picks the encoder from the extension, so the temp name keeps ".png".

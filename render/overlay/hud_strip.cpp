@@ -48,10 +48,12 @@ std::string trim_left(std::string s) {
 
 }  // namespace
 
-HudStrip::HudStrip(int width_px, int line_height_px, int max_lines)
-    : line_height_(std::max(8, line_height_px)), max_lines_(std::max(1, max_lines)) {
+HudStrip::HudStrip(int width_px, int line_height_px, int max_lines, int graph_lines)
+    : line_height_(std::max(8, line_height_px)),
+      max_lines_(std::max(1, max_lines)),
+      graph_lines_(std::max(0, graph_lines)) {
   if (width_px > 0) {
-    image_.allocate(width_px, line_height_ * max_lines_);
+    image_.allocate(width_px, capacity_height());
     image_.height = line_height_;
   }
   text_.reserve(256);
@@ -103,10 +105,11 @@ std::vector<std::string> HudStrip::layout(std::string_view text, int width_px, i
   return lines;
 }
 
-bool HudStrip::set_text(std::string_view text) {
+bool HudStrip::set_text(std::string_view text, const HudGraph& graph) {
   text = text.substr(0, std::min<std::size_t>(text.size(), 255));
-  if (text == text_) return false;
+  if (text == text_ && graph == graph_) return false;
   text_.assign(text.begin(), text.end());
+  graph_ = graph;
   // Unique across strips, so a new strip at a freed one's address never looks already uploaded.
   static std::atomic<uint64_t> next_revision{0};
   revision_ = ++next_revision;
@@ -115,7 +118,8 @@ bool HudStrip::set_text(std::string_view text) {
       text_.empty() ? std::vector<std::string>{}
                     : layout(text_, image_.width, line_height_, max_lines_);
   line_count_ = std::max<int>(1, static_cast<int>(lines.size()));
-  image_.height = line_count_ * line_height_;
+  const int graph_height = shows_graph() ? graph_lines_ * line_height_ : 0;
+  image_.height = line_count_ * line_height_ + graph_height;
   cv::Mat strip(image_.height, image_.width, CV_8UC4, image_.data.data(),
                 static_cast<std::size_t>(image_.stride_bytes));
   strip.setTo(cv::Scalar(0, 0, 0, kBackgroundAlpha));
@@ -128,6 +132,10 @@ bool HudStrip::set_text(std::string_view text) {
     const cv::Point org(kMarginPx,
                         static_cast<int>(i) * line_height_ + (line_height_ + ascent - descent) / 2);
     cv::putText(strip, lines[i], org, kFont, scale, cv::Scalar(255, 255, 255, 255), 1, cv::LINE_AA);
+  }
+  if (graph_height > 0) {
+    cv::Mat area = strip.rowRange(line_count_ * line_height_, image_.height);
+    draw_hud_graph(area, graph_);
   }
   return true;
 }

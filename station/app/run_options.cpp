@@ -44,6 +44,8 @@ void add_run_options(CLI::App& cmd, RunOptions& o) {
   cmd.add_option("--png-every", o.png_every, "Write DIR/frame_NNNNNN.png every N frames");
   cmd.add_option("--contact-tiles", o.contact_tiles, "Tiles on contact_sheet.png")
       ->check(CLI::Range(std::size_t{2}, std::size_t{48}));
+  cmd.add_flag("--hud-graph", o.hud_graph,
+               "Show the stage-delay graph under the HUD from the start (key G toggles it)");
   cmd.add_flag("--mono", o.mono, "One eye (a monitor) instead of a stereo HMD");
   cmd.add_option("--hmd", o.hmd,
                  "HMD profile: a shipped name (oculus-dk1, osvr-hdk-1.3, neutral) or a .yaml "

@@ -41,6 +41,7 @@ struct RunOptions {
   std::string cameras_from;
   std::string scene_epoch;    ///< --scene-epoch: scene t = 0 on CLOCK_REALTIME (sim/scene_epoch.h)
   double camera_wait_s = 10;  ///< --camera-wait: how long the loop waits for network cameras
+  bool hud_graph = false;     ///< --hud-graph: the stage graph shown from the start (G toggles)
 };
 
 /// Adds the options above to the `run` subcommand.

@@ -50,6 +50,44 @@ std::string RunStages::hud_text(int camera, const std::vector<std::string>& came
   return text;
 }
 
+void RunStages::sample_graph(int camera, int64_t now_ns) {
+  const bool video = camera >= 0 && static_cast<std::size_t>(camera) < video_.size();
+  const int source = video ? camera : -1;
+  const StageDelays& d = video ? video_[static_cast<std::size_t>(camera)] : model_;
+  if (source != graph_source_) {
+    graph_source_ = source;
+    history_.assign(d.names().size() - 1, {});
+  }
+  for (std::size_t i = 0; i < history_.size(); ++i) {
+    std::vector<double>& h = history_[i];
+    if (h.size() == kGraphSamples) h.erase(h.begin());
+    h.push_back(d.stage(i + 1).p50_last_second(now_ns));
+  }
+}
+
+render::HudGraph RunStages::graph(const std::vector<std::string>& camera_names) const {
+  render::HudGraph g;
+  if (graph_source_ < -1) return g;
+  const bool video = graph_source_ >= 0;
+  const StageDelays& d = video ? video_[static_cast<std::size_t>(graph_source_)] : model_;
+  const std::size_t cam = static_cast<std::size_t>(std::max(0, graph_source_));
+  g.title = (video ? (cam < camera_names.size() ? camera_names[cam] : std::string("video"))
+                   : std::string("model")) +
+            ": ms since capture, p50 of each second";
+  g.names.assign(d.short_names().begin() + 1, d.short_names().end());
+  g.series = history_;
+  // Stages never stamped (a local camera has no link) stay out of the graph and its legend.
+  for (std::size_t i = g.series.size(); i-- > 0;) {
+    bool any = false;
+    for (double v : g.series[i]) any = any || std::isfinite(v);
+    if (!any) {
+      g.series.erase(g.series.begin() + static_cast<std::ptrdiff_t>(i));
+      g.names.erase(g.names.begin() + static_cast<std::ptrdiff_t>(i));
+    }
+  }
+  return g;
+}
+
 std::vector<StageFigure> stage_figures(const StageDelays& d) {
   std::vector<StageFigure> figures;
   for (std::size_t i = 1; i < d.names().size(); ++i)

@@ -191,7 +191,8 @@ int run(const RunOptions& o) {
     compositor_name = "CPU reference (" + std::to_string(o.threads) + " thread(s))";
   }
   std::printf("  compositor       %s, %s\n", compositor_name.c_str(),
-              windowed ? (p.monitor >= 0 ? "fullscreen" : "windowed; keys: R re-centre, Esc/Q quit")
+              windowed ? (p.monitor >= 0 ? "fullscreen"
+                                         : "windowed; keys: R re-centre, G stage graph, Esc/Q quit")
                        : "headless");
   if (gl) std::printf("  display          %s\n", gl->window().description().c_str());
   if (o.frames)
@@ -256,6 +257,7 @@ int run(const RunOptions& o) {
   }
   int64_t next_hud_ns = start_ns;
   std::string hud;
+  bool show_graph = o.hud_graph;
   RunProgress progress(o.progress_s, stdout, start_ns);
   // Format changes are reported when they happen, not only as a count at the end.
   CameraEventLog camera_events(stdout, start_ns);
@@ -304,11 +306,16 @@ int run(const RunOptions& o) {
       hud.append(latency.hud_line());
       const std::string stage_text = stages.hud_text(r.camera, camera_names, now);
       if (!stage_text.empty()) hud += " | " + stage_text;
-      frame.set_hud_text(hud);
+      stages.sample_graph(r.camera, now);
+      frame.set_hud(hud, show_graph ? stages.graph(camera_names) : render::HudGraph{});
     }
     if (keys) {
       gl->window().poll_events();
       if (keys->pressed(GLFW_KEY_R)) p.head->request_recentre();
+      if (keys->pressed(GLFW_KEY_G)) {  // the stage graph: at once, not at the next HUD update
+        show_graph = !show_graph;
+        next_hud_ns = now;
+      }
       if (keys->pressed(GLFW_KEY_ESCAPE) || keys->pressed(GLFW_KEY_Q) ||
           gl->window().should_close())
         break;

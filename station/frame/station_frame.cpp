@@ -39,11 +39,12 @@ StationFrame::StationFrame(StationFrameConfig config,
     // The HUD goes where the eye sees it through the lens, not at the image's (black) corner.
     panel_.allocate(config_.lens->panel_width(), config_.lens->panel_height());
     hud_viewport_ = config_.lens->visible_rect(0);
-    hud_ = render::HudStrip(hud_viewport_.width, std::max(18, hud_viewport_.height / 16), 5);
+    hud_ = render::HudStrip(hud_viewport_.width, std::max(18, hud_viewport_.height / 16), 5,
+                            kHudGraphLines);
     compositor_.set_lens(config_.lens.get());
   } else {
-    hud_ =
-        render::HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24), 5);
+    hud_ = render::HudStrip(config_.rig.eye[0].width, std::max(18, config_.rig.eye[0].height / 24),
+                            5, kHudGraphLines);
   }
   rows_.reserve(config_.max_rows);
 }
@@ -79,12 +80,16 @@ void StationFrame::tick(const render::FrameTiming& timing) {
   }
   // Newest model: before its first update the mailbox shows the a-priori model (capture 0).
   const render::SyntheticScene* scene = scene_;
-  int64_t model_capture_ns = 0;
+  int64_t model_capture_ns = 0, model_reconstructed_ns = 0, model_published_ns = 0;
   if (model_) {
     model_->models().fetch();
     const ModelSnapshot& snapshot = model_->models().latest();
     scene = &snapshot.scene;
     model_capture_ns = snapshot.capture_oldest_ns;
+    if (snapshot.update != 0) {
+      model_reconstructed_ns = snapshot.reconstructed_ns;
+      model_published_ns = snapshot.published_ns;
+    }
   }
   const int64_t texture_ns = clock_.now_ns();
 
@@ -230,6 +235,8 @@ void StationFrame::tick(const render::FrameTiming& timing) {
   }
   r.texture_update_ns = texture_ns;
   r.model_capture_ns = model_capture_ns;
+  r.model_reconstructed_ns = model_reconstructed_ns;
+  r.model_published_ns = model_published_ns;
   r.render_start_ns = render_start_ns;
   r.render_end_ns = render_end_ns;
   r.swap_ns = swap_ns;

@@ -118,6 +118,10 @@ class StationFrame final : public render::FrameWork {
   /// The HUD line drawn at the top of eye 0 (e.g. LatencyRecorder::hud_line()); "" hides it.
   /// Renders the text with OpenCV, which may allocate: call it outside tick(), e.g. every ~0.5 s.
   void set_hud_text(std::string_view text) { hud_.set_text(text); }
+  /// The same with a graph below the text (the stage delays, on a key; empty: none), as tall as
+  /// kHudGraphLines lines of the HUD.
+  void set_hud(std::string_view text, const render::HudGraph& graph) { hud_.set_text(text, graph); }
+  static constexpr int kHudGraphLines = 5;
   const render::HudStrip& hud() const { return hud_; }
 
   /// What is shown: the panel's picture with a lens, else the eyes' (eyes_image()).

@@ -34,6 +34,11 @@ LatencyRecord make(uint64_t frame, int64_t mtp_ns, int64_t age_ns) {
     r.video_received_ns = r.video_sent_ns + 1'200'000;
     r.video_decoded_ns = r.video_received_ns + 2'500'000;
   }
+  if (frame % 3 == 0) {  // an updated model's stages
+    r.model_capture_ns = r.predicted_display_ns - 900'000'000;
+    r.model_reconstructed_ns = r.model_capture_ns + 120'000'000;
+    r.model_published_ns = r.model_reconstructed_ns + 80'000'000;
+  }
   return r;
 }
 
@@ -108,6 +113,9 @@ TEST(LatencyRecorder, CsvRoundTripIsExactAndAtomic) {
     EXPECT_EQ(a.video_sent_ns, b.video_sent_ns);
     EXPECT_EQ(a.video_received_ns, b.video_received_ns);
     EXPECT_EQ(a.video_decoded_ns, b.video_decoded_ns);
+    EXPECT_EQ(a.model_capture_ns, b.model_capture_ns);
+    EXPECT_EQ(a.model_reconstructed_ns, b.model_reconstructed_ns);
+    EXPECT_EQ(a.model_published_ns, b.model_published_ns);
   }
   fs::remove_all(dir);
 }
@@ -159,6 +167,19 @@ TEST(LatencyRecorder, TheLinkStagesOfNetworkVideoAddUpToItsAge) {
   EXPECT_NEAR(rec.stats(LatencyMetric::kLinkDecode).p50_ms, 2.5, 1e-9);
   EXPECT_NEAR(rec.stats(LatencyMetric::kLinkShow).p50_ms, 35.0 - 4.0 - 0.3 - 1.2 - 2.5, 1e-9);
   EXPECT_EQ(rec.stats(LatencyMetric::kVideoAge).count, 100u);
+}
+
+TEST(LatencyRecorder, TheModelStagesAddUpToItsAge) {
+  LatencyRecorder rec(99);
+  for (uint64_t i = 0; i < 99; ++i) rec.record(make(i, 14'000'000, 35'000'000));
+  // Every third record drew an updated model (make()): reconstructed 120 ms after its capture,
+  // in the model 80 ms later, shown 900 ms after capture; the others drew the a-priori model.
+  EXPECT_EQ(rec.stats(LatencyMetric::kModelPublish).count, 33u);
+  EXPECT_NEAR(rec.stats(LatencyMetric::kModelReconstruct).p50_ms, 120.0, 1e-9);
+  EXPECT_NEAR(rec.stats(LatencyMetric::kModelPublish).p50_ms, 200.0, 1e-9);
+  EXPECT_NEAR(rec.stats(LatencyMetric::kModelShow).p50_ms, 700.0, 1e-9);
+  EXPECT_NEAR(rec.stats(LatencyMetric::kModelAge).p50_ms, 900.0, 1e-9);
+  EXPECT_EQ(rec.stats(LatencyMetric::kModelAge).count, 33u);
 }
 
 TEST(LatencyRecorder, PngIsWritten) {

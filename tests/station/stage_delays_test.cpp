@@ -104,5 +104,49 @@ TEST(RunStages, EachStageIsTheTimeSinceCaptureFromTheRecordAndTheModel) {
   EXPECT_EQ(f[4].stage, "on screen");
 }
 
+TEST(RunStages, TheGraphKeepsEachStagesLastSecondP50PerUpdateForTheChosenSource) {
+  RunStages st(2);
+  const std::vector<std::string> names{"front", "side"};
+  EXPECT_TRUE(st.graph(names).empty());
+  auto frame = [&](int camera, int64_t capture_ns, double decode_ms) {
+    render::LatencyRecord r;
+    r.video_ns = capture_ns;
+    r.video_encoded_ns = capture_ns + 5 * kMs;
+    r.video_sent_ns = capture_ns + 6 * kMs;
+    r.video_received_ns = capture_ns + 7 * kMs;
+    r.video_decoded_ns = capture_ns + static_cast<int64_t>(decode_ms * kMs);
+    r.predicted_display_ns = capture_ns + 40 * kMs;
+    st.after_frame(r, camera, nullptr, capture_ns + 40 * kMs);
+  };
+  // Camera 1 for 45 updates of 0.5 s; its decode stage grows by 1 ms an update.
+  for (int u = 0; u < 45; ++u) {
+    const int64_t t = 10'000 * kMs + u * 500 * kMs;
+    frame(1, t, 10.0 + u);
+    st.sample_graph(1, t + 40 * kMs);
+  }
+  render::HudGraph g = st.graph(names);
+  EXPECT_EQ(g.title, "side: ms since capture, p50 of each second");
+  EXPECT_EQ(g.names, (std::vector<std::string>{"enc", "sent", "recv", "dec", "shown"}));
+  ASSERT_EQ(g.series.size(), 5u);
+  ASSERT_EQ(g.series[3].size(), RunStages::kGraphSamples);  // the newest 40 of 45
+  // Each update's last second holds that update's frame and the one before (0.5 s apart): the
+  // p50 (upper middle of two) is the newer, 10 + u ms for update u; the oldest kept is u = 5.
+  EXPECT_DOUBLE_EQ(g.series[3].front(), 15.0);
+  EXPECT_DOUBLE_EQ(g.series[3].back(), 54.0);
+  EXPECT_DOUBLE_EQ(g.series[0].back(), 5.0);
+  EXPECT_DOUBLE_EQ(g.series[4].back(), 40.0);
+  // A local camera has no link: only "shown" is in its graph, which starts again.
+  render::LatencyRecord local;
+  local.video_ns = 40'000 * kMs;
+  local.predicted_display_ns = 40'025 * kMs;
+  st.after_frame(local, 0, nullptr, 40'025 * kMs);
+  st.sample_graph(0, 40'025 * kMs);
+  g = st.graph(names);
+  EXPECT_EQ(g.title, "front: ms since capture, p50 of each second");
+  EXPECT_EQ(g.names, (std::vector<std::string>{"shown"}));
+  ASSERT_EQ(g.series.size(), 1u);
+  EXPECT_EQ(g.series[0], (std::vector<double>{25.0}));
+}
+
 }  // namespace
 }  // namespace hd::station
