@@ -89,8 +89,9 @@ struct Figures {
   std::vector<double> ms;
   uint64_t in = 0, out = 0;
   double cpu_s = 0.0;
-  std::vector<double> stage_ms[5];  // ours only: capture → encoded → sent → received → decoded →
-                                    // in the mailbox
+  // Ours: capture → encoded → sent → received → decoded → in the mailbox; the peer: capture →
+  // encoded → received → decoded → available (its stage 4 stays empty).
+  std::vector<double> stage_ms[5];
   double cpu_ms_per_frame() const { return in > 0 ? cpu_s * 1e3 / double(in) : 0.0; }
 };
 
@@ -173,12 +174,16 @@ CaseResult run_case(const Case& c, double seconds, double segment_s, int bitrate
       }
   };
   auto drain_peer = [&](Figures* into) {
-    for (auto& p : peers) {
-      std::vector<double> ms = p->take_latencies_ms();
-      if (into == nullptr) continue;
-      into->out += ms.size();
-      into->ms.insert(into->ms.end(), ms.begin(), ms.end());
-    }
+    for (auto& p : peers)
+      for (const hd::bench::PeerFrameTiming& t : p->take_timings()) {
+        if (into == nullptr) continue;
+        ++into->out;
+        into->ms.push_back((t.available_ns - t.capture_ns) * 1e-6);
+        const int64_t at[5] = {t.capture_ns, t.encoded_ns, t.received_ns, t.decoded_ns,
+                               t.available_ns};
+        for (int k = 0; k < 4; ++k)
+          if (at[k] != 0 && at[k + 1] != 0) into->stage_ms[k].push_back((at[k + 1] - at[k]) * 1e-6);
+      }
   };
   const int rounds = std::max(1, static_cast<int>(std::lround(seconds / segment_s)));
   for (int round = 0; round < rounds; ++round) {
@@ -237,6 +242,11 @@ void print_case(const CaseResult& r) {
       "decoded -%.2f- in the mailbox\n",
       percentile(s[0], 0.5), percentile(s[1], 0.5), percentile(s[2], 0.5), percentile(s[3], 0.5),
       percentile(s[4], 0.5));
+  const auto& q = r.peer.stage_ms;
+  std::printf(
+      "peer stage by stage, p50 ms: capture -%.2f- encoded -%.2f- received -%.2f- decoded "
+      "-%.2f- available\n",
+      percentile(q[0], 0.5), percentile(q[1], 0.5), percentile(q[2], 0.5), percentile(q[3], 0.5));
 }
 
 }  // namespace

@@ -70,9 +70,9 @@ PeerLink::PeerLink(const PeerLinkConfig& c) : period_ns_(1'000'000'000ull / c.ra
       "/1 ! videoconvert ! video/x-raw,format=" + remote::h264_encoder_input_format(encoder) +
       " ! " + remote::h264_encoder_description(encoder, c.bitrate_kbps, key_int, vbv_ms, false) +
       " ! rtph264pay name=pay config-interval=-1 pt=96 mtu=1200 ! udpsink host=127.0.0.1 port=" +
-      port + " sync=false async=false udpsrc address=127.0.0.1 port=" + port +
+      port + " sync=false async=false udpsrc name=net address=127.0.0.1 port=" + port +
       " caps=application/x-rtp,media=video,clock-rate=90000,encoding-name=H264,payload=96 ! "
-      "rtpjitterbuffer latency=20 ! rtph264depay name=depay ! avdec_h264 max-threads=1 ! "
+      "rtpjitterbuffer latency=20 ! rtph264depay name=depay ! avdec_h264 name=dec max-threads=1 ! "
       "videoconvert ! video/x-raw,format=RGBA ! appsink name=sink sync=false max-buffers=1 "
       "drop=true";
   GError* error = nullptr;
@@ -84,6 +84,28 @@ PeerLink::PeerLink(const PeerLinkConfig& c) : period_ns_(1'000'000'000ull / c.ra
     throw std::runtime_error("peer link: " + why);
   }
   source_ = gst_bin_get_by_name(GST_BIN(pipeline_), "src");
+  add_probe(
+      pipeline_, "pay", "sink",
+      [](GstPad* pad, GstPadProbeInfo* info, gpointer self) {
+        if (GstBuffer* b = first_buffer(info))
+          static_cast<PeerLink*>(self)->on_encoded(running_time(pad, GST_BUFFER_PTS(b)));
+        return GST_PAD_PROBE_OK;
+      },
+      this);
+  add_probe(
+      pipeline_, "net", "src",
+      [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+        if (GstBuffer* b = first_buffer(info)) static_cast<PeerLink*>(self)->on_received(b);
+        return GST_PAD_PROBE_OK;
+      },
+      this);
+  add_probe(
+      pipeline_, "dec", "src",
+      [](GstPad*, GstPadProbeInfo* info, gpointer self) {
+        if (GstBuffer* b = first_buffer(info)) static_cast<PeerLink*>(self)->on_decoded(b);
+        return GST_PAD_PROBE_OK;
+      },
+      this);
   add_probe(
       pipeline_, "pay", "src",
       [](GstPad* pad, GstPadProbeInfo* info, gpointer self) {
@@ -133,12 +155,33 @@ void PeerLink::push(const drivers::Frame& f, int64_t capture_ns) {
   gst_app_src_push_buffer(GST_APP_SRC(source_), b);
 }
 
+void PeerLink::on_encoded(uint64_t pushed_pts) {
+  const int64_t now = drivers::monotonic_now_ns();
+  std::lock_guard lock(mutex_);
+  encoded_by_pts_.put(pushed_pts, now);
+}
+
 void PeerLink::on_payloaded(GstBuffer* rtp, uint64_t pushed_pts) {
   uint32_t rtp_time = 0;
   if (!rtp_time_of(rtp, rtp_time)) return;
   std::lock_guard lock(mutex_);
-  int64_t capture_ns = 0;
-  if (capture_by_pts_.get(pushed_pts, capture_ns)) capture_by_rtp_.put(rtp_time, capture_ns);
+  PeerFrameTiming t;
+  if (!capture_by_pts_.get(pushed_pts, t.capture_ns)) return;
+  encoded_by_pts_.get(pushed_pts, t.encoded_ns);
+  PeerFrameTiming known;
+  if (!timing_by_rtp_.get(rtp_time, known)) timing_by_rtp_.put(rtp_time, t);
+}
+
+void PeerLink::on_received(GstBuffer* rtp) {
+  uint32_t rtp_time = 0;
+  if (!rtp_time_of(rtp, rtp_time)) return;
+  const int64_t now = drivers::monotonic_now_ns();
+  std::lock_guard lock(mutex_);
+  PeerFrameTiming t;
+  if (timing_by_rtp_.get(rtp_time, t)) {
+    t.received_ns = now;  // each packet's arrival: the last one stays
+    timing_by_rtp_.set(rtp_time, t);
+  }
 }
 
 void PeerLink::on_depayloader_input(GstBuffer* rtp) {
@@ -146,6 +189,13 @@ void PeerLink::on_depayloader_input(GstBuffer* rtp) {
   if (!rtp_time_of(rtp, rtp_time)) return;
   std::lock_guard lock(mutex_);
   rtp_by_pts_.put(GST_BUFFER_PTS(rtp), rtp_time);
+}
+
+void PeerLink::on_decoded(GstBuffer* frame) {
+  const int64_t now = drivers::monotonic_now_ns();
+  std::lock_guard lock(mutex_);
+  uint32_t rtp_time = 0;
+  if (rtp_by_pts_.get(GST_BUFFER_PTS(frame), rtp_time)) decoded_by_rtp_.set(rtp_time, now);
 }
 
 void PeerLink::on_sample(GstElement* sink) {
@@ -156,17 +206,20 @@ void PeerLink::on_sample(GstElement* sink) {
   std::lock_guard lock(mutex_);
   ++out_;
   uint32_t rtp_time = 0;
-  int64_t capture_ns = 0;
+  PeerFrameTiming t;
   if (b != nullptr && rtp_by_pts_.get(GST_BUFFER_PTS(b), rtp_time) &&
-      capture_by_rtp_.get(rtp_time, capture_ns))
-    latencies_ms_.push_back((now - capture_ns) * 1e-6);
+      timing_by_rtp_.get(rtp_time, t)) {
+    decoded_by_rtp_.get(rtp_time, t.decoded_ns);
+    t.available_ns = now;
+    timings_.push_back(t);
+  }
   gst_sample_unref(sample);
 }
 
-std::vector<double> PeerLink::take_latencies_ms() {
+std::vector<PeerFrameTiming> PeerLink::take_timings() {
   std::lock_guard lock(mutex_);
-  std::vector<double> out;
-  out.swap(latencies_ms_);
+  std::vector<PeerFrameTiming> out;
+  out.swap(timings_);
   return out;
 }
 

@@ -9,7 +9,9 @@
 //
 // The capture time crosses the UDP hop by the RTP time: the payloader's output maps RTP time →
 // capture, the depayloader's input maps the jitter buffer's PTS → RTP time, and the decoded
-// frame keeps that PTS.
+// frame keeps that PTS. The same maps time the peer's stages at ours' points: encoded (the
+// payloader's input), received (the frame's last packet off the socket), decoded (the decoder's
+// output) and available (the appsink callback).
 
 #include <gst/gst.h>
 
@@ -22,6 +24,11 @@
 #include "drivers/frame.h"
 
 namespace hd::bench {
+
+/// One frame through the peer, CLOCK_MONOTONIC ns (0: not seen at that point).
+struct PeerFrameTiming {
+  int64_t capture_ns = 0, encoded_ns = 0, received_ns = 0, decoded_ns = 0, available_ns = 0;
+};
 
 struct PeerLinkConfig {
   int width_px = 1280, height_px = 720, rate_hz = 60, bitrate_kbps = 4000;
@@ -38,15 +45,18 @@ class PeerLink {
   /// Hands `frame` (pre-rendered; it must outlive the run: wrapped, not copied) to the link,
   /// captured at capture_ns (CLOCK_MONOTONIC).
   void push(const drivers::Frame& frame, int64_t capture_ns);
-  /// Capture → decoded RGBA in ms of the frames that came out since the last call.
-  std::vector<double> take_latencies_ms();
+  /// The frames that came out (decoded RGBA available) since the last call.
+  std::vector<PeerFrameTiming> take_timings();
   uint64_t frames_out() const;
 
   const std::string& description() const { return description_; }
 
  private:
+  void on_encoded(uint64_t pushed_pts);
   void on_payloaded(GstBuffer* rtp, uint64_t pushed_pts);
+  void on_received(GstBuffer* rtp);
   void on_depayloader_input(GstBuffer* rtp);
+  void on_decoded(GstBuffer* frame);
   void on_sample(GstElement* sink);
 
   // Small rings: a frame crosses the link within a few frame periods.
@@ -57,6 +67,11 @@ class PeerLink {
     void put(K k, V v) {
       slots[next] = {k, v};
       next = (next + 1) % slots.size();
+    }
+    void set(K k, V v) {  // the newest value for k (a frame's packets share one RTP time)
+      for (auto& [key, value] : slots)
+        if (key == k) return void(value = v);
+      put(k, v);
     }
     bool get(K k, V& v) const {
       for (const auto& [key, value] : slots)
@@ -70,10 +85,12 @@ class PeerLink {
   GstElement* source_ = nullptr;
   uint64_t period_ns_ = 0, pushed_ = 0;
   mutable std::mutex mutex_;
-  Ring<uint64_t, int64_t> capture_by_pts_;  // sender PTS → capture
-  Ring<uint32_t, int64_t> capture_by_rtp_;  // RTP time → capture
-  Ring<uint64_t, uint32_t> rtp_by_pts_;     // receiver PTS → RTP time
-  std::vector<double> latencies_ms_;
+  Ring<uint64_t, int64_t> capture_by_pts_;         // sender PTS → capture
+  Ring<uint64_t, int64_t> encoded_by_pts_;         // sender PTS → encoded
+  Ring<uint32_t, PeerFrameTiming> timing_by_rtp_;  // RTP time → capture, encoded, received
+  Ring<uint64_t, uint32_t> rtp_by_pts_;            // receiver PTS → RTP time
+  Ring<uint32_t, int64_t> decoded_by_rtp_;         // RTP time → decoded
+  std::vector<PeerFrameTiming> timings_;
   uint64_t out_ = 0;
 };
 
