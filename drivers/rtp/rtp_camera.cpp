@@ -249,7 +249,7 @@ GstPadProbeReturn RtpCamera::on_decrypted(GstBuffer* buffer) {
 // reports no loss, so the depayloader would not. Not for a stream that heals by intra refresh: its
 // frames are withheld for up to two sweeps after a loss (a stall, while packets flow), and
 // x264enc answers with another sweep, not an IDR.
-void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
+void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer*& buffer) {
   counters_.packets_depayloaded.fetch_add(1, std::memory_order_relaxed);
   if (state_.load(std::memory_order_acquire) == SourceState::kStalled &&
       !heal_.heals_by_refresh() && counters_.frames_published.load(std::memory_order_relaxed) > 0 &&
@@ -288,7 +288,16 @@ void RtpCamera::on_depay_packet(GstPad* pad, GstBuffer* buffer) {
     counters_.last_calibration_revision.store(stamp.camera->calibration_revision,
                                               std::memory_order_relaxed);
   }
-  const GstClockTime pts = GST_BUFFER_PTS(buffer);
+  GstClockTime pts = GST_BUFFER_PTS(buffer);
+  if (GST_CLOCK_TIME_IS_VALID(pts)) {  // one PTS per access unit, which the stamper keys on
+    const uint64_t unique = access_unit_pts_.next(view.timestamp, pts);
+    if (unique != pts) {
+      buffer = gst_buffer_make_writable(buffer);
+      GST_BUFFER_PTS(buffer) = unique;
+      pts = unique;
+      counters_.access_units_retimed.store(access_unit_pts_.nudged(), std::memory_order_relaxed);
+    }
+  }
   stamper_.add_packet(GST_CLOCK_TIME_IS_VALID(pts) ? std::optional<uint64_t>(pts) : std::nullopt,
                       wire_sequence(view.sequence), stamped ? &stamp : nullptr, now);
   heal_.packet(view.sequence, pts, view.marker, starts_picture);

@@ -19,6 +19,7 @@
 #include "drivers/gobject_ptr.h"
 #include "drivers/gst/pipeline_runner.h"
 #include "drivers/gst/rgba_converter.h"
+#include "drivers/rtp/access_unit_pts.h"
 #include "drivers/rtp/clock_offset_estimator.h"
 #include "drivers/rtp/frame_end_requester.h"
 #include "drivers/rtp/h264_heal_watch.h"
@@ -171,8 +172,8 @@ class RtpCamera final : public CameraSource, public CameraLink {
   RtpPacketError check_stream(const RtpPacketView& view, GstBuffer* buffer);
   GstPadProbeReturn on_rtp_packet(GstBuffer* buffer);
   GstPadProbeReturn on_decrypted(GstBuffer* buffer);
-  void on_depay_packet(GstPad* pad, GstBuffer* buffer);
-  bool on_access_unit(GstPad* pad, GstBuffer*& buffer);  // false: drop it; may replace it
+  void on_depay_packet(GstPad* pad, GstBuffer*& buffer);  // may replace it (its PTS)
+  bool on_access_unit(GstPad* pad, GstBuffer*& buffer);   // false: drop it; may replace it
   // Healing after a loss (rtp_camera_heal.cpp): the depayloader's lost events, each access
   // unit's verdict (and a PLI when refresh does not heal), and a decoded frame's verdict.
   void on_packet_lost();
@@ -214,6 +215,7 @@ class RtpCamera final : public CameraSource, public CameraLink {
   uint64_t sequence_ = 0;
   int sized_slots_ = 0;
   RgbaConverter to_rgba_;
+  AccessUnitPts access_unit_pts_;  // the depayloader's input thread
 
   RtpCameraCounters counters_;
   // The media SSRC, sequence numbers and RTP times taken (udpsrc's streaming thread, or

@@ -23,6 +23,7 @@ RtpCameraStats RtpCameraCounters::snapshot(bool srtp) const {
   s.unstamped_frames = unstamped.load(relaxed);
   s.capture_after_arrival = capture_after_arrival.load(relaxed);
   s.not_newer = not_newer.load(relaxed);
+  s.access_units_retimed = access_units_retimed.load(relaxed);
   for (std::size_t i = 0; i < s.stamp_errors.size(); ++i)
     s.stamp_errors[i] = stamp_errors[i].load(relaxed);
   if (srtp) {

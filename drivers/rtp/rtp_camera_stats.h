@@ -45,6 +45,9 @@ struct RtpCameraStats {
   /// Decoded frames not newer than the last published one (a late or repeated frame): never
   /// published, so old video is never presented as new.
   uint64_t not_newer = 0;
+  /// Access units whose jitter-buffer PTS repeated the previous one's, moved 1 us past it so
+  /// that each frame keeps its own stages (drivers/rtp/access_unit_pts.h).
+  uint64_t access_units_retimed = 0;
   /// Packets with header extensions whose stamp was refused, by reason (StampError).
   std::array<uint64_t, static_cast<std::size_t>(StampError::kCount)> stamp_errors{};
   /// With a key: packets srtpdec authenticated and decrypted / that failed (a wrong key, or a
@@ -134,7 +137,8 @@ struct RtpCameraCounters {
   std::atomic<uint64_t> decrypted{0};  ///< srtpdec let through, and well formed
   std::atomic<uint64_t> sequence_resyncs{0};
   std::atomic<uint64_t> frames_published{0}, wrong_format{0};
-  std::atomic<uint64_t> stamped{0}, unstamped{0}, capture_after_arrival{0}, not_newer{0};
+  std::atomic<uint64_t> stamped{0}, unstamped{0}, capture_after_arrival{0}, not_newer{0},
+      access_units_retimed{0};
   std::array<std::atomic<uint64_t>, static_cast<std::size_t>(StampError::kCount)> stamp_errors{};
   std::atomic<uint64_t> key_frames{0};
   std::atomic<int64_t> last_key_frame_capture_ns{0};

@@ -158,7 +158,9 @@ void RtpCamera::wire(PipelineRunner& p) {
   p.probe(
       rtp_elements::kDepayloader, "sink",
       [](GstPad* pad, GstPadProbeInfo* info, gpointer self) {
-        camera(self).on_depay_packet(pad, GST_PAD_PROBE_INFO_BUFFER(info));
+        GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
+        camera(self).on_depay_packet(pad, buffer);
+        GST_PAD_PROBE_INFO_DATA(info) = buffer;  // its PTS may have been made the access unit's
         return GST_PAD_PROBE_OK;
       },
       this);
