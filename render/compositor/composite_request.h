@@ -6,6 +6,7 @@
 #include "core/pixel_rect.h"
 #include "core/pose.h"
 #include "core/transition.h"
+#include "core/video_view.h"
 #include "drivers/frame.h"
 #include "render/compositor/synthetic_scene.h"
 #include "render/compositor/video_sampling.h"
@@ -23,6 +24,10 @@ namespace hd::render {
 ///   video(p)  = the frame sampled at q = H p, H the homography induced by the plane z_c = d_m in
 ///               the real camera (eye pixel -> real pixel), if the plane point lies in front of the
 ///               eye (z_eye >= near_m) and q lies inside [0,width] x [0,height] of the frame;
+///               with video_view kModelDepth, where the eye sees a model surface point X instead
+///               q = X's projection into the real camera, and only if the real camera saw X
+///               (depth_warp.h's seen test against the model drawn from P_c); where the eye
+///               sees no model surface, the plane's q;
 ///   a(p)      = coverage(p) * weight, weight = transition.w_video for kAbrupt / kGlobalBlend, and
 ///               core::continuous_pixel_weight(w_video, q.u, q.v, real.width, real.height) for
 ///               kPerPixel (the paper's w2, made continuous in m: DESIGN 7);
@@ -45,6 +50,9 @@ struct CompositeRequest {
   core::Pinhole real;       ///< the real camera's intrinsics p_c
   core::Pose T_world_real;  ///< its pose P_c, camera-to-world
   double d_m = 1.0;         ///< the plane z_c = d_m (real camera frame) the video is projected on
+  /// kPlane and kFittedPlane draw the plane at d_m (a fitted plane's d is the caller's);
+  /// kModelDepth lays the video on the scene's meshes.
+  core::VideoView video_view = core::VideoView::kPlane;
 
   /// The part of the frame that is visible this frame (core::measure_view's update region, real
   /// pixels, continuous coordinates). The GL compositor uploads only this rectangle (grown to

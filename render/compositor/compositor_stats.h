@@ -16,6 +16,9 @@ struct CompositorStats {
   uint64_t video_bytes_uploaded = 0;  ///< GL only: texel bytes sent by glTexSubImage2D
   uint64_t video_uploads = 0;         ///< GL only: glTexSubImage2D calls for video
   uint64_t scene_uploads = 0;         ///< GL only: times the synthetic scene was (re)uploaded
+  /// Times the model was drawn from the real camera for the model-depth view's seen test (once
+  /// per change of model, camera or its pose: not per frame).
+  uint64_t camera_depth_renders = 0;
 };
 
 }  // namespace hd::render

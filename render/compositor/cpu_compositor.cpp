@@ -9,6 +9,7 @@
 #endif
 
 #include "render/compositor/border_weight.h"
+#include "render/compositor/depth_warp.h"
 #include "render/compositor/packed_rgba.h"
 #include "render/compositor/request_check.h"
 #include "render/compositor/row_kernels.h"
@@ -99,6 +100,15 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
       ++stats_.video_frames_rejected;
     }
   }
+  depth_view_ = false;
+  if (video_on_ && req.video_view == core::VideoView::kModelDepth) {
+    depth_warp_ = DepthWarp::make(req.eye, req.T_world_eye, req.real, req.T_world_real);
+    if (depth_warp_.usable) {
+      if (camera_depth_.update(*scene_, req.real, req.T_world_real, req.near_m, req.far_m, &rows_))
+        ++stats_.camera_depth_renders;
+      depth_view_ = true;
+    }
+  }
   rasterizer_.prepare(*scene_, req.eye, req.T_world_eye, req.near_m, req.far_m);
 
   auto band = [this](int row_begin, int row_end, int thread) {
@@ -157,6 +167,25 @@ void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
   const BorderWeight border(w_video, std::max(vwd, 1.0), std::max(vhd, 1.0));
 
   const Eigen::Vector3d& q = warp_.inv_depth;
+  // The model-depth view: the same rows with the eye's model depth in place of the plane's.
+  const Eigen::Matrix3d& A = depth_warp_.A;
+  DepthRow dr;
+  if (depth_view_) {
+    dr.a00 = A(0, 0);
+    dr.a10 = A(1, 0);
+    dr.a20 = A(2, 0);
+    dr.b0 = depth_warp_.b(0);
+    dr.b1 = depth_warp_.b(1);
+    dr.b2 = depth_warp_.b(2);
+    dr.q0 = q(0);
+    dr.inv_near = inv_near;
+    dr.width = vwd;
+    dr.height = vhd;
+    dr.weight = static_cast<float>(w_video);
+    dr.seen = camera_depth_.data();
+    dr.seen_width = camera_depth_.width();
+    dr.seen_height = camera_depth_.height();
+  }
 
   // Per-thread scratch for kRowGroup rows: where each pixel samples the frame, with what weight,
   // the 1/256 px texel positions and the texel.
@@ -244,11 +273,20 @@ void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
       for (int r = 0; r < rows; ++r) {
         const double pv = y_group + r + 0.5;
         const std::size_t off = static_cast<std::size_t>(r) * W;
-        rw.bx = H(0, 1) * pv + H(0, 2);
-        rw.by = H(1, 1) * pv + H(1, 2);
-        rw.bw = H(2, 1) * pv + H(2, 2);
-        rw.bz = q(1) * pv + q(2);
-        warp_row(rw, W, su_group + off, sv_group + off, sa_group + off);
+        if (depth_view_) {
+          dr.cx = A(0, 1) * pv + A(0, 2);
+          dr.cy = A(1, 1) * pv + A(1, 2);
+          dr.cw = A(2, 1) * pv + A(2, 2);
+          dr.bz = q(1) * pv + q(2);
+          depth_warp_row(dr, W, inv_depth_.data() + static_cast<long>(y_group + r) * W,
+                         su_group + off, sv_group + off, sa_group + off);
+        } else {
+          rw.bx = H(0, 1) * pv + H(0, 2);
+          rw.by = H(1, 1) * pv + H(1, 2);
+          rw.bw = H(2, 1) * pv + H(2, 2);
+          rw.bz = q(1) * pv + q(2);
+          warp_row(rw, W, su_group + off, sv_group + off, sa_group + off);
+        }
         if (position_map_ != nullptr)
           record_positions(y_group + r, su_group + off, sv_group + off, sa_group + off);
         if (per_pixel) border.apply_row(W, su_group + off, sv_group + off, sa_group + off);

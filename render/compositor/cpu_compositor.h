@@ -5,7 +5,9 @@
 #include <memory>
 #include <vector>
 
+#include "render/compositor/camera_depth_map.h"
 #include "render/compositor/compositor.h"
+#include "render/compositor/depth_warp.h"
 #include "render/compositor/mesh_rasterizer.h"
 #include "render/compositor/video_warp.h"
 #include "render/cpu/row_worker.h"
@@ -74,6 +76,9 @@ class CpuCompositor final : public Compositor {
   const SyntheticScene* scene_ = nullptr;
   VideoWarp warp_;
   bool video_on_ = false;
+  DepthWarp depth_warp_;         ///< the model-depth view's warp (kModelDepth)
+  CameraDepthMap camera_depth_;  ///< the model seen from the real camera, for its seen test
+  bool depth_view_ = false;
   std::vector<uint8_t>* weight_map_ = nullptr;
   ImageRgba8* model_only_ = nullptr;
   std::vector<float>* position_map_ = nullptr;

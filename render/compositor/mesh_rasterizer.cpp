@@ -158,7 +158,8 @@ void MeshRasterizer::draw_triangle(const TexturedMesh& mesh, const EyeVertex* v,
     for (int y = y0; y <= y1; ++y) {
       const int64_t PY = y * sub + sub / 2;
       const int64_t PX = x0 * sub + sub / 2;
-      uint8_t* rgba_row = target.rgba + static_cast<long>(y) * target.width * 4;
+      uint8_t* rgba_row =
+          target.rgba ? target.rgba + static_cast<long>(y) * target.width * 4 : nullptr;
       float* depth_row = target.inv_depth + static_cast<long>(y) * target.width;
       int64_t E[3];
       for (int e = 0; e < 3; ++e) E[e] = dX[e] * (PY - ea[e]->Y) - dY[e] * (PX - ea[e]->X);
@@ -195,6 +196,7 @@ void MeshRasterizer::draw_triangle(const TexturedMesh& mesh, const EyeVertex* v,
         const float izf = static_cast<float>(iz);
         if (izf > depth_row[x]) {
           depth_row[x] = izf;
+          if (rgba_row == nullptr) continue;  // a depth map only
           const double z = 1.0 / iz;
           // Texel position, clamped so the fixed-point conversion below stays positive.
           const float tu = std::clamp(static_cast<float>(sz * z) * tex_w, -1.0f, tex_w + 1.0f);

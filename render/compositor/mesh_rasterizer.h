@@ -11,7 +11,7 @@
 namespace hd::render {
 
 /// Where the rasteriser writes: RGB(A) colour and a depth buffer of 1/z_eye (0 = nothing drawn),
-/// both width x height, tightly packed, row 0 at the top.
+/// both width x height, tightly packed, row 0 at the top. rgba == nullptr: depth only.
 struct RasterTarget {
   uint8_t* rgba = nullptr;
   float* inv_depth = nullptr;
