@@ -7,9 +7,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "render/compositor/depth_warp.h"
 #include "render/compositor/request_check.h"
 #include "render/compositor/video_warp.h"
 #include "render/gl/gl_program.h"
+#include "render/gl/gl_projection.h"
 #include "render/gl/shader_sources.h"  // generated from render/gl/shaders/
 
 namespace hd::render {
@@ -51,13 +53,20 @@ GlCompositor::GlCompositor(const gl::WindowOptions& options)
   glUniform1i(glGetUniformLocation(mesh_program_.get(), "tex"), 0);
   const GLuint c = composite_program_.get();
   auto loc = [c](const char* n) { return glGetUniformLocation(c, n); };
-  cu_ = {loc("synth"),   loc("video"),     loc("vp_origin"), loc("vp_size"),    loc("video_on"),
-         loc("H"),       loc("inv_depth"), loc("inv_near"),  loc("video_size"), loc("per_pixel"),
-         loc("w_video"), loc("nearest"),   loc("style"),     loc("desat"),      loc("checker_step"),
-         loc("cell"),    loc("frame_w"),   loc("frame_rgb"), loc("fade"),       loc("stale")};
+  cu_ = {loc("synth"),     loc("video"),    loc("vp_origin"),
+         loc("vp_size"),   loc("video_on"), loc("H"),
+         loc("inv_depth"), loc("inv_near"), loc("video_size"),
+         loc("per_pixel"), loc("w_video"),  loc("nearest"),
+         loc("style"),     loc("desat"),    loc("checker_step"),
+         loc("cell"),      loc("frame_w"),  loc("frame_rgb"),
+         loc("fade"),      loc("stale"),    loc("model_depth"),
+         loc("A"),         loc("b"),        loc("seen_tolerance")};
   glUseProgram(c);
   glUniform1i(cu_.synth, 0);
   glUniform1i(cu_.video, 1);
+  glUniform1i(loc("eye_depth"), 2);
+  glUniform1i(loc("seen"), 3);
+  glUniform1f(cu_.seen_tolerance, kSeenTolerance);
   glUseProgram(0);
   video_texture_ = gl::Texture::create();
   glBindTexture(GL_TEXTURE_2D, video_texture_.get());
@@ -123,6 +132,12 @@ void GlCompositor::ensure_targets(int width, int height) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  synth_inv_depth_ = gl::Texture::create();
+  glBindTexture(GL_TEXTURE_2D, synth_inv_depth_.get());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, width, height, 0, GL_RED, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
   synth_depth_ = gl::Renderbuffer::create();
   glBindRenderbuffer(GL_RENDERBUFFER, synth_depth_.get());
   glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
@@ -130,8 +145,12 @@ void GlCompositor::ensure_targets(int width, int height) {
   glBindFramebuffer(GL_FRAMEBUFFER, synth_fbo_.get());
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, synth_colour_.get(),
                          0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D,
+                         synth_inv_depth_.get(), 0);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
                             synth_depth_.get());
+  const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glDrawBuffers(2, both);
   final_colour_ = gl::Texture::create();
   glBindTexture(GL_TEXTURE_2D, final_colour_.get());
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
@@ -256,6 +275,11 @@ void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
       ++stats_.video_frames_rejected;
     }
   }
+  DepthWarp depth_warp;
+  if (video_on && req.video_view == core::VideoView::kModelDepth) {
+    depth_warp = DepthWarp::make(req.eye, req.T_world_eye, req.real, req.T_world_real);
+    if (depth_warp.usable) draw_camera_depth(req, scene);
+  }
 
   const Viewport& vp = req.viewport;
   // Pass 1: the model, depth-tested, into the synthetic colour target.
@@ -263,26 +287,15 @@ void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   glViewport(vp.x, vp.y, vp.width, vp.height);
   glEnable(GL_SCISSOR_TEST);
   glScissor(vp.x, vp.y, vp.width, vp.height);
-  glClearColor(scene.background_rgb[0] / 255.0f, scene.background_rgb[1] / 255.0f,
-               scene.background_rgb[2] / 255.0f, 1.0f);
-  glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const GLfloat background[4] = {scene.background_rgb[0] / 255.0f, scene.background_rgb[1] / 255.0f,
+                                 scene.background_rgb[2] / 255.0f, 1.0f};
+  const GLfloat no_surface[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  const GLfloat far_depth = 1.0f;
+  glClearBufferfv(GL_COLOR, 0, background);
+  glClearBufferfv(GL_COLOR, 1, no_surface);
+  glClearBufferfv(GL_DEPTH, 0, &far_depth);
   if (!meshes_.empty()) {
-    // Eye frame (x right, y down, z forward) to clip space such that NDC y = 2 v / height - 1:
-    // framebuffer row r then holds picture row r. Depth maps [near, far] to [-1, 1].
-    const double W = req.eye.width, Hh = req.eye.height, n = req.near_m, fa = req.far_m;
-    Eigen::Matrix4d P = Eigen::Matrix4d::Zero();
-    P(0, 0) = 2.0 * req.eye.fx / W;
-    P(0, 2) = 2.0 * req.eye.cx / W - 1.0;
-    P(1, 1) = 2.0 * req.eye.fy / Hh;
-    P(1, 2) = 2.0 * req.eye.cy / Hh - 1.0;
-    P(2, 2) = (fa + n) / (fa - n);
-    P(2, 3) = -2.0 * fa * n / (fa - n);
-    P(3, 2) = 1.0;
-    Eigen::Matrix4d V = Eigen::Matrix4d::Identity();
-    V.topLeftCorner<3, 3>() = req.T_world_eye.R.transpose();
-    V.topRightCorner<3, 1>() = -(req.T_world_eye.R.transpose() * req.T_world_eye.t);
-    const Eigen::Matrix4f M = (P * V).cast<float>();  // column-major, as GL expects
+    const Eigen::Matrix4f M = gl::world_to_clip(req.eye, req.T_world_eye, req.near_m, req.far_m);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glUseProgram(mesh_program_.get());
@@ -303,6 +316,10 @@ void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   glBindTexture(GL_TEXTURE_2D, synth_colour_.get());
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D, video_texture_.get());
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, synth_inv_depth_.get());
+  glActiveTexture(GL_TEXTURE3);
+  glBindTexture(GL_TEXTURE_2D, camera_depth_.get());
   glActiveTexture(GL_TEXTURE0);
   const core::MarkingParams mark = req.marking.sanitized();
   const double w_video =
@@ -317,6 +334,13 @@ void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
                 static_cast<float>(warp.inv_depth.y()), static_cast<float>(warp.inv_depth.z()));
     glUniform1f(cu_.inv_near, static_cast<float>(1.0 / req.near_m));
     glUniform2f(cu_.video_size, static_cast<float>(video_w_), static_cast<float>(video_h_));
+  }
+  glUniform1i(cu_.model_depth, depth_warp.usable ? 1 : 0);
+  if (depth_warp.usable) {
+    const Eigen::Matrix3f Af = depth_warp.A.cast<float>();
+    glUniformMatrix3fv(cu_.A, 1, GL_FALSE, Af.data());
+    glUniform3f(cu_.b, static_cast<float>(depth_warp.b.x()), static_cast<float>(depth_warp.b.y()),
+                static_cast<float>(depth_warp.b.z()));
   }
   glUniform1i(cu_.per_pixel, req.mode == core::TransitionMode::kPerPixel ? 1 : 0);
   glUniform1f(cu_.w_video, static_cast<float>(w_video));

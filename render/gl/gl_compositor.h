@@ -1,7 +1,8 @@
 #pragma once
 // The OpenGL 3.3 core compositor: the CPU reference's picture, drawn by shaders. Defined in
 // gl_compositor.cpp (targets, uploads, the compositing passes, present), gl_compositor_overlay.cpp
-// (the overlay pass) and gl_compositor_lens.cpp (the lens pass); programs via gl_program.h.
+// (the overlay pass), gl_compositor_lens.cpp (the lens pass) and gl_compositor_depth.cpp (the
+// model seen from the real camera, for the model-depth view); programs via gl_program.h.
 
 #include <array>
 #include <cstdint>
@@ -20,8 +21,11 @@ namespace hd::render {
 /// framebuffer the size of `out`: the meshes with a depth buffer, then one full-screen pass that
 /// evaluates the plane homography per fragment, samples the video bilinearly (GL_LINEAR,
 /// clamp-to-edge, texel centres at +0.5, no sRGB), computes the continuous w2, blends over the
-/// synthetic colour and paints the marks. Framebuffer row r is picture row r (y down), so a
-/// read-back needs no flip; present() blits it upright to the window.
+/// synthetic colour and paints the marks. The mesh pass also keeps the model's 1 / z_eye in a
+/// second target; the model-depth view reads it, and a depth map of the model drawn from the
+/// real camera (only when model or camera changed), in the same full-screen pass. Framebuffer row r
+/// is picture row r (y down), so a read-back needs no flip; present() blits it upright to the
+/// window.
 ///
 /// Uploads: the scene's meshes and textures when the scene pointer or its revision changes; the
 /// video only inside the request's update region (grown to whole pixels plus one pixel for the
@@ -98,6 +102,7 @@ class GlCompositor final : public Compositor {
 
   int target_w_ = 0, target_h_ = 0;
   gl::Texture synth_colour_;
+  gl::Texture synth_inv_depth_;  ///< R32F, the model's 1 / z_eye (0: no surface)
   gl::Renderbuffer synth_depth_;
   gl::Framebuffer synth_fbo_;
   gl::Texture final_colour_;
@@ -146,8 +151,27 @@ class GlCompositor final : public Compositor {
   struct CompositeUniforms {
     int synth, video, vp_origin, vp_size, video_on, H, inv_depth, inv_near, video_size;
     int per_pixel, w_video, nearest, style, desat, checker_step, cell, frame_w, frame_rgb, fade,
-        stale;
+        stale, model_depth, A, b, seen_tolerance;
   } cu_{};
+
+  // The model-depth view's depth map of the model seen from the real camera
+  // (gl_compositor_depth.cpp): re-drawn only when the key changes.
+  struct CameraDepthKey {
+    const void* scene = nullptr;
+    uint64_t revision = 0;
+    double fx = 0, fy = 0, cx = 0, cy = 0;
+    int width = 0, height = 0;
+    std::array<double, 12> pose{};
+    double near_m = 0, far_m = 0;
+    bool operator==(const CameraDepthKey&) const = default;
+  };
+  void draw_camera_depth(const CompositeRequest& req, const SyntheticScene& scene);
+  gl::Texture camera_depth_;  ///< R32F, 1 / z_real (0: no surface), the real frame's size
+  gl::Renderbuffer camera_depth_z_;
+  gl::Framebuffer camera_depth_fbo_;
+  int camera_depth_w_ = 0, camera_depth_h_ = 0;
+  CameraDepthKey camera_depth_key_;
+  bool have_camera_depth_ = false;
 };
 
 }  // namespace hd::render

@@ -175,6 +175,37 @@ TEST_F(GlCompositorTest, FrameMarksAreIdenticalForEveryVariant) {
   }
 }
 
+// The model-depth view off the camera (per-pixel blend, so the border weight is in it too): the
+// same pixels see video in both, and the pictures agree within 2 levels nearly everywhere (a
+// texel at a depth edge may go either way in float and double).
+TEST_F(GlCompositorTest, ModelDepthViewMatchesTheCpuReference) {
+  CompositeRequest req = base_request();
+  req.T_world_eye = look_pose(14.0, -6.0, {0.25, -0.05, 0.1});
+  req.mode = TransitionMode::kPerPixel;
+  req.transition = {Variant::kHybrid, 0.8, 0.2};
+  req.video_view = hd::core::VideoView::kModelDepth;
+  const uint64_t renders = gl_->stats().camera_depth_renders;
+  draw_both(req, 400, 300);
+  EXPECT_EQ(gl_->stats().camera_depth_renders, renders + 1);
+  EXPECT_GE(psnr_db(cpu_out_, gl_out_), 40.0);
+  int off = 0;
+  for (int y = 0; y < 300; ++y)
+    for (int x = 0; x < 400; ++x)
+      for (int c = 0; c < 3; ++c)
+        off += std::abs(cpu_out_.pixel(x, y)[c] - gl_out_.pixel(x, y)[c]) > 2;
+  std::printf("    channel values more than 2 levels apart: %d of %d\n", off, 400 * 300 * 3);
+  EXPECT_LE(off, 400 * 300 * 3 / 1000);
+  // The plane view differs from it (the view is really switched), and a second draw of the same
+  // model and camera re-uses the depth map.
+  const ImageRgba8 depth_picture = gl_out_;
+  req.video_view = hd::core::VideoView::kPlane;
+  draw_both(req, 400, 300);
+  EXPECT_LT(psnr_db(depth_picture, gl_out_), 35.0);
+  req.video_view = hd::core::VideoView::kModelDepth;
+  draw_both(req, 400, 300);
+  EXPECT_EQ(gl_->stats().camera_depth_renders, renders + 1);
+}
+
 TEST_F(GlCompositorTest, StereoViewportsSideBySideMatchTheCpuReference) {
   cpu_out_.allocate(800, 300);
   gl_out_.allocate(800, 300);

@@ -3,6 +3,12 @@
 #version 330 core
 uniform sampler2D synth;
 uniform sampler2D video;
+uniform sampler2D eye_depth;  // 1 / z_eye of the model (0: none), the mesh pass's second target
+uniform sampler2D seen;       // 1 / z_real of the model seen from the real camera (0: none)
+uniform int model_depth;      // the model-depth video view (depth_warp.h)
+uniform mat3 A;
+uniform vec3 b;
+uniform float seen_tolerance;
 uniform ivec2 vp_origin;
 uniform ivec2 vp_size;
 uniform int video_on;
@@ -53,11 +59,18 @@ void main() {
   vec3 v = vec3(0.0);
   if (video_on != 0) {
     vec3 p = vec3(vec2(e) + 0.5, 1.0);
-    float iz = dot(inv_depth, p);
-    if (iz > 0.0 && iz <= inv_near) {
-      vec3 h = H * p;
+    float iz_model = model_depth != 0 ? texelFetch(eye_depth, pix, 0).r : 0.0;
+    bool on_model = iz_model > 0.0;
+    float iz = on_model ? iz_model : dot(inv_depth, p);
+    vec3 h = on_model ? A * p + b * iz : H * p;
+    if (iz > 0.0 && iz <= inv_near && h.z > 0.0) {
       vec2 q = h.xy / h.z;
-      if (q.x >= 0.0 && q.y >= 0.0 && q.x <= video_size.x && q.y <= video_size.y) {
+      bool inside = q.x >= 0.0 && q.y >= 0.0 && q.x <= video_size.x && q.y <= video_size.y;
+      if (inside && on_model) {
+        ivec2 t = min(ivec2(q), ivec2(video_size) - 1);
+        inside = iz / h.z >= texelFetch(seen, t, 0).r * (1.0 - seen_tolerance);
+      }
+      if (inside) {
         float weight = w_video;
         if (per_pixel != 0) {
           float strength = min(1.0, 2.0 * w_video);
