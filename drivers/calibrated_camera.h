@@ -4,6 +4,7 @@
 
 #include "core/pinhole.h"
 #include "core/pose.h"
+#include "core/video_view.h"
 #include "drivers/camera_source.h"
 
 namespace hd::drivers {
@@ -18,6 +19,7 @@ struct CalibratedCamera {
   /// Video older than this at the display time is not shown as live (core/video_age.h);
   /// <= 0: core::default_max_video_age_s of an unknown rate (100 ms).
   double max_video_age_s = 0.0;
+  core::VideoView video_view = core::VideoView::kPlane;  ///< plane at d_m, fitted, or model depth
 };
 
 }  // namespace hd::drivers

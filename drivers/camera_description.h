@@ -11,6 +11,7 @@
 
 #include "core/pinhole.h"
 #include "core/pose.h"
+#include "core/video_view.h"
 
 namespace hd::drivers {
 
@@ -28,6 +29,9 @@ struct CameraDescription {
   /// its own when asked.
   double rate_hz = 0.0;
   double d_m = 1.0;  ///< the plane distance the station projects this camera's video on
+  /// How its video is laid into the eye's picture (`video_view`: plane, the default;
+  /// fitted-plane; model-depth). d_m is the fitted plane's starting point.
+  core::VideoView video_view = core::VideoView::kPlane;
   /// Video older than this at the display time is not shown as live (core/video_age.h);
   /// 0: the default, core::default_max_video_age_s of the rate it delivers plus known delays.
   double max_video_age_ms = 0.0;

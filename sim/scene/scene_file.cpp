@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "calib/calibration_file.h"
+#include "core/config/video_view_field.h"
 #include "core/config/yaml_fields.h"
 #include "drivers/mock/trajectory.h"
 
@@ -127,6 +128,7 @@ SceneCamera read_camera(const YamlFields& c) {
   if (cam.name.empty()) c.fail("name", "a camera needs a name");
   cam.rate_hz = c.optional_double("rate_hz", 30.0, Range{0.0, 1000.0, true, false});
   cam.d_m = c.required_double("d_m", Range::positive());
+  cam.video_view = config::read_video_view(c);
   cam.max_video_age_ms =
       c.optional_double("max_video_age_ms", 0.0, Range{0.0, 60'000.0, true, false});
   bool have_pose = false;

@@ -77,8 +77,9 @@ std::unique_ptr<drivers::PoseSource> still_head() {
   return std::make_unique<drivers::MockPoseSource>(c);
 }
 
-void add_cameras(StationParts& p, const StationConfig& config) {
+void add_cameras(StationParts& p, const StationConfig& config, const RunOptions& o) {
   CameraAssemblyContext ctx;
+  ctx.video_view = core::parse_video_view(o.video_view);
   ctx.model_period_s = config.model.refresh_period_s;
   // With stereo pairs every camera hands every frame to the model (docs/reconstruction.md).
   if (!config.model.stereo.empty()) ctx.model_period_s = 0.0;
@@ -150,7 +151,7 @@ std::unique_ptr<StationParts> assemble_from_config(const StationConfig& config,
   p->source_kind = "config";
   p->source_file = config.file;
   p->default_seconds = o.headless ? 10.0 : 0.0;
-  add_cameras(*p, config);
+  add_cameras(*p, config, o);
   add_tracker(*p, config);
   add_model(*p, config);
   p->report.note("config", config.file);

@@ -102,6 +102,7 @@ std::unique_ptr<StationParts> assemble_from_scene(sim::Scene scene, const RunOpt
   // colours where the reconstruction has nothing).
   ctx.model_period_s = !stereo.empty() ? 0.0 : staleness ? staleness->period_s : 1.0;
   ctx.await_network_cameras = true;
+  ctx.video_view = core::parse_video_view(o.video_view);
   const std::vector<drivers::CalibratedCamera> sim_cams = sim.station_cameras();
   for (std::size_t i = 0; i < sim_cams.size(); ++i) {
     drivers::CameraDescription d = sim.scene().cameras[i];

@@ -146,7 +146,8 @@ std::optional<StationCamera> assemble_camera(const drivers::CameraDescription& d
   const double max_age_s = d.max_video_age_ms > 0.0
                                ? 1e-3 * d.max_video_age_ms
                                : core::default_max_video_age_s(rate_hz, known_delay_s);
-  cam.calibrated = {cam.pipeline.get(), d.p_c, d.T_world_cam, d.d_m, max_age_s};
+  const core::VideoView view = ctx.video_view.value_or(d.video_view);
+  cam.calibrated = {cam.pipeline.get(), d.p_c, d.T_world_cam, d.d_m, max_age_s, view};
 
   const std::string delivered =
       got.delivered.known() ? drivers::format_text(got.delivered)
@@ -174,6 +175,10 @@ std::optional<StationCamera> assemble_camera(const drivers::CameraDescription& d
   report.opened("camera", label,
                 dev.what + delivered + (got.detail.empty() ? "" : " (" + got.detail + ")") + ", " +
                     calibration + fmt(", d = %g m", d.d_m) +
+                    (view == core::VideoView::kPlane ? std::string()
+                     : view == core::VideoView::kFittedPlane
+                         ? std::string(", video view fitted-plane: d follows the model's depth")
+                         : std::string(", video view model-depth: on the model's surfaces")) +
                     (from_stream                    ? ""
                      : cam.pipeline->undistorting() ? ", undistorted by the pipeline"
                                                     : ", no distortion") +

@@ -28,6 +28,8 @@ struct CameraAssemblyContext {
   /// with --cameras-from: the remote site starts with the station). station.yaml's cameras run
   /// on their own, so a frame without their video is honestly synthetic.
   bool await_network_cameras = false;
+  /// --video-view: every camera's video view, replacing the one its file gives.
+  std::optional<core::VideoView> video_view;
 };
 
 /// Opens `d`'s device (rtp:// ids as a network camera with its key and clock, "sim:" ids from

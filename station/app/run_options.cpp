@@ -6,6 +6,13 @@
 
 namespace hd::station {
 
+void add_video_view_option(CLI::App& cmd, RunOptions& o) {
+  cmd.add_option("--video-view", o.video_view,
+                 "plane | fitted-plane | model-depth: how every camera's video is laid into the "
+                 "picture (default: each camera's video_view, else plane; docs/video-views.md)")
+      ->check(CLI::IsMember({"plane", "fitted-plane", "model-depth"}));
+}
+
 void add_run_options(CLI::App& cmd, RunOptions& o) {
   auto* scene = cmd.add_option("--scene", o.scene_path,
                                "Scene file: simulated cameras and head (default: "
@@ -46,6 +53,7 @@ void add_run_options(CLI::App& cmd, RunOptions& o) {
       ->check(CLI::Range(std::size_t{2}, std::size_t{48}));
   cmd.add_flag("--hud-graph", o.hud_graph,
                "Show the stage-delay graph under the HUD from the start (key G toggles it)");
+  add_video_view_option(cmd, o);
   cmd.add_flag("--mono", o.mono, "One eye (a monitor) instead of a stereo HMD");
   cmd.add_option("--hmd", o.hmd,
                  "HMD profile: a shipped name (oculus-dk1, osvr-hdk-1.3, neutral) or a .yaml "

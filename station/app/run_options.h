@@ -42,9 +42,12 @@ struct RunOptions {
   std::string scene_epoch;    ///< --scene-epoch: scene t = 0 on CLOCK_REALTIME (sim/scene_epoch.h)
   double camera_wait_s = 10;  ///< --camera-wait: how long the loop waits for network cameras
   bool hud_graph = false;     ///< --hud-graph: the stage graph shown from the start (G toggles)
+  std::string video_view;     ///< --video-view: every camera's (core/video_view.h); "": each file's
 };
 
 /// Adds the options above to the `run` subcommand.
 void add_run_options(CLI::App& cmd, RunOptions& o);
+/// --video-view alone (`run` and `score`).
+void add_video_view_option(CLI::App& cmd, RunOptions& o);
 
 }  // namespace hd::station

@@ -40,6 +40,7 @@ const CommandRegistrar kRegister{[](CLI::App& app, int& exit_code) {
   cmd->add_option("--rate", o.rate_hz, "Display rate in Hz (default 90)")
       ->check(CLI::Range(1.0, 1000.0));
   cmd->add_flag("--mono", o.mono, "One eye (a monitor) instead of a stereo HMD");
+  add_video_view_option(*cmd, o);
   cmd->add_option("--hmd", o.hmd,
                   "HMD profile (name or .yaml): its eyes, scored before the lens pass");
   cmd->add_option("--predictor", o.predictor, "none | cv | kalman")

@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "calib/calibration_file.h"
+#include "core/config/video_view_field.h"
 #include "core/config/yaml_fields.h"
 #include "render/lens/hmd_profile_file.h"
 #include "sim/scene/scene.h"
@@ -41,6 +42,7 @@ CameraConfig read_camera(const config::YamlFields& f, std::size_t index) {
     c.calibration_file = f.required_path("calibration");
   }
   c.d_m = f.required_double("d_m", Range::positive());
+  c.video_view = config::read_video_view(f);
   c.max_video_age_ms =
       f.optional_double("max_video_age_ms", 0.0, Range{0.0, 60'000.0, true, false});
   c.optional = f.optional_bool("optional", false);

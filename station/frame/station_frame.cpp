@@ -30,6 +30,9 @@ StationFrame::StationFrame(StationFrameConfig config,
     s.calibrated = c;
     s.max_age_s = c.max_video_age_s > 0.0 ? c.max_video_age_s : core::default_max_video_age_s(0.0);
     s.fade_s = core::video_age_fade_s(s.max_age_s, config_.transition.time_constant_s);
+    s.d_m = c.d_m;
+    if (c.video_view == core::VideoView::kFittedPlane)
+      s.fitted = std::make_unique<FittedPlane>(c.p_c, c.d_m);
     guidance_cameras_.push_back({c.p_c, c.T_world_real, c.d_m});
     // Not calibrated yet: no pose to guide the operator to (an invalid pose is skipped).
     if (!c.p_c.valid()) guidance_cameras_.back().T_world_real.R.setZero();
@@ -74,6 +77,7 @@ void StationFrame::tick(const render::FrameTiming& timing) {
       c.stream_revision = int64_t(cal.revision) + 1;
       c.calibrated.p_c = cal.p_c;
       c.calibrated.T_world_real = cal.T_world_cam;
+      if (c.fitted) c.fitted->set_camera(cal.p_c);  // allocates only if the size grew
       guidance_cameras_[i].p_c = cal.p_c;
       guidance_cameras_[i].T_world_real = cal.T_world_cam;
     }
@@ -129,13 +133,25 @@ void StationFrame::tick(const render::FrameTiming& timing) {
       m_camera_[i] = INFINITY;
       continue;
     }
+    if (c.fitted) {
+      // The eyes' part of the frame last frame (the whole frame when they saw none of it).
+      core::PixelRect seen{INFINITY, INFINITY, -INFINITY, -INFINITY};
+      for (int e = 0; e < eyes; ++e) {
+        const core::ViewMeasure& vm = c.measure[static_cast<std::size_t>(e)];
+        if (!vm.has_region) continue;
+        seen = {std::min(seen.u_min, vm.region.u_min), std::min(seen.v_min, vm.region.v_min),
+                std::max(seen.u_max, vm.region.u_max), std::max(seen.v_max, vm.region.v_max)};
+      }
+      c.d_m = c.fitted->update(scene, c.calibrated.T_world_real,
+                               seen.u_min <= seen.u_max ? &seen : nullptr, timing.dt_s);
+    }
     for (int e = 0; e < eyes; ++e) {
       core::ViewSetup s;
       s.real = c.calibrated.p_c;
       s.T_world_real = c.calibrated.T_world_real;
       s.virt = rig.eye[static_cast<std::size_t>(e)];
       s.T_world_virt = rig.T_world_eye(T_world_head, e);
-      s.d_m = c.calibrated.d_m;
+      s.d_m = c.d_m;
       s.near_m = config_.near_m;
       s.workspace = config_.workspace;
       core::ViewMeasure& vm = c.measure[static_cast<std::size_t>(e)];
@@ -186,7 +202,8 @@ void StationFrame::tick(const render::FrameTiming& timing) {
       req.video = video;
       req.real = cam.p_c;
       req.T_world_real = cam.T_world_real;
-      req.d_m = cam.d_m;
+      req.d_m = shown->d_m;
+      req.video_view = cam.video_view;
       req.region = vm.region;
       req.has_region = vm.has_region;
     }

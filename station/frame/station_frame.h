@@ -26,6 +26,7 @@
 #include "render/stereo/stereo_rig.h"
 #include "station/prediction/pose_history.h"
 #include "station/selection/camera_selector.h"
+#include "station/video/fitted_plane.h"
 
 namespace hd::station {
 
@@ -94,6 +95,11 @@ struct CameraUsabilityEvent {
 /// Per-frame work. Everything is sized in the constructor; tick() does not allocate (shown by
 /// loop_no_allocation_test), lock or throw, and calls nothing of a camera but frames() (a
 /// lock-free mailbox) and state() (an atomic), so a device that hangs cannot hold a frame up.
+///
+/// Each camera's video view (drivers::CalibratedCamera::video_view) decides the plane it is
+/// measured and drawn on: its d_m, or for fitted-plane a d fitted to the model inside the part of
+/// the frame the eyes saw in the previous frame; model-depth is drawn on the model's surfaces
+/// (the compositor's) and measured, as the paper does, on its plane at d_m.
 ///
 /// Time is an input of the decision (docs/truth.md): a camera is usable only while its source
 /// is streaming and its newest frame is younger than its max_video_age_s at the predicted
@@ -173,6 +179,10 @@ class StationFrame final : public render::FrameWork {
     /// The stream calibration in use (revision + 1; 0: the CalibratedCamera's own).
     int64_t stream_revision = 0;
     uint64_t fetched = 0;  ///< frames in which it showed a new frame
+    /// The plane its video is measured and drawn on this frame: calibrated.d_m, or with the
+    /// fitted-plane view the fitted d (station/video/fitted_plane.h).
+    double d_m = 1.0;
+    std::unique_ptr<FittedPlane> fitted;  ///< the fitted-plane view only
   };
 
   StationFrameConfig config_;
