@@ -63,6 +63,7 @@ constexpr const char* kGood = R"(cameras:
   - id: mock:320x240
     calibration: nopose.yaml
     d_m: 2
+    video_view: model-depth
     optional: true
     pose: {position_m: [1, 0, 0], ypr_deg: [90, 0, 0]}
 tracker: {id: "1532:0b00"}
@@ -90,6 +91,8 @@ TEST_F(StationConfigTest, GoodFileReadsEveryValue) {
   EXPECT_EQ(a.id, "mock");
   EXPECT_EQ(a.calibration_file, path("cam.yaml"));
   EXPECT_DOUBLE_EQ(a.d_m, 1.25);
+  EXPECT_EQ(a.video_view, hd::core::VideoView::kPlane);  // the default
+  EXPECT_EQ(c.cameras[1].video_view, hd::core::VideoView::kModelDepth);
   EXPECT_FALSE(a.optional);
   EXPECT_DOUBLE_EQ(a.max_video_age_ms, 80.0);
   // The values written into cam.yaml above.
@@ -200,6 +203,8 @@ std::vector<Broken> broken_snippets() {
       {"eps not a number", "transition.eps", cam + tail + "transition:\n  eps: wide   # <-\n"},
       {"d_m zero", "cameras[0].d_m",
        "cameras:\n  - id: mock\n    calibration: cam.yaml\n    d_m: 0   # <-\n" + tail},
+      {"bad video view", "cameras[0].video_view",
+       cam + "    video_view: hologram   # <-\n" + tail},
       {"unknown key at the top", "transitions", cam + tail + "transitions: {m_t: 3}   # <-\n"},
       {"unknown key in a camera", "cameras[0].dm",
        "cameras:\n  - id: mock\n    calibration: cam.yaml\n    d_m: 1\n    dm: 2   # <-\n" + tail},
