@@ -77,7 +77,7 @@ void CpuCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
     synth_rgba_.assign(4 * n, 0);
     const std::size_t group = kRowGroup * static_cast<std::size_t>(req.viewport.width);
     const auto bands = static_cast<std::size_t>(threads_);
-    scratch_.assign(bands * 3 * group, 0.0f);
+    scratch_.assign(bands * 4 * group, 0.0f);
     video_row_.assign(bands * group, 0u);
     fixed_.assign(bands * 2 * group, 0);
   }
@@ -191,9 +191,10 @@ void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
   // the 1/256 px texel positions and the texel.
   const std::size_t band = static_cast<std::size_t>(band_index);
   const std::size_t group = kRowGroup * static_cast<std::size_t>(W);
-  float* su_group = scratch_.data() + band * 3 * group;
+  float* su_group = scratch_.data() + band * 4 * group;
   float* sv_group = su_group + group;
   float* sa_group = sv_group + group;
+  float* sz_group = sa_group + group;  // model-depth: 1 / z_real awaiting the seen test
   uint32_t* vid_group = video_row_.data() + band * group;
   int* fx_group = fixed_.data() + band * 2 * group;
   int* fy_group = fx_group + group;
@@ -279,7 +280,7 @@ void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
           dr.cw = A(2, 1) * pv + A(2, 2);
           dr.bz = q(1) * pv + q(2);
           depth_warp_row(dr, W, inv_depth_.data() + static_cast<long>(y_group + r) * W,
-                         su_group + off, sv_group + off, sa_group + off);
+                         su_group + off, sv_group + off, sa_group + off, sz_group + off);
         } else {
           rw.bx = H(0, 1) * pv + H(0, 2);
           rw.by = H(1, 1) * pv + H(1, 2);
@@ -287,6 +288,19 @@ void CpuCompositor::draw_band(int row_begin, int row_end, int band_index) {
           rw.bz = q(1) * pv + q(2);
           warp_row(rw, W, su_group + off, sv_group + off, sa_group + off);
         }
+      }
+      if (depth_view_) {
+        for (int x_begin = 0; x_begin < W; x_begin += kTilePx) {
+          const int x_end = std::min(W, x_begin + kTilePx);
+          for (int r = 0; r < rows; ++r) {
+            const std::size_t off = static_cast<std::size_t>(r) * W;
+            seen_test_row(dr, x_begin, x_end, su_group + off, sv_group + off, sz_group + off,
+                          sa_group + off);
+          }
+        }
+      }
+      for (int r = 0; r < rows; ++r) {
+        const std::size_t off = static_cast<std::size_t>(r) * W;
         if (position_map_ != nullptr)
           record_positions(y_group + r, su_group + off, sv_group + off, sa_group + off);
         if (per_pixel) border.apply_row(W, su_group + off, sv_group + off, sa_group + off);

@@ -20,13 +20,14 @@ DepthWarp DepthWarp::make(const core::Pinhole& eye, const core::Pose& T_world_ey
   return w;
 }
 
-void depth_warp_row(const DepthRow& w, int n, const float* eye_iz, float* u, float* v, float* a) {
+void depth_warp_row(const DepthRow& w, int n, const float* eye_iz, float* u, float* v, float* a,
+                    float* real_iz) {
   for (int x = 0; x < n; ++x) {
     const double px = x + 0.5;
     double iz = eye_iz[x];
     const bool model = iz > 0.0;
     if (!model) iz = w.q0 * px + w.bz;
-    u[x] = v[x] = a[x] = 0.0f;
+    u[x] = v[x] = a[x] = real_iz[x] = 0.0f;
     if (!(iz > 0.0) || iz > w.inv_near) continue;
     const double hw = w.a20 * px + w.cw + w.b2 * iz;
     if (!(hw > 0.0)) continue;
@@ -34,15 +35,20 @@ void depth_warp_row(const DepthRow& w, int n, const float* eye_iz, float* u, flo
     const double uu = (w.a00 * px + w.cx + w.b0 * iz) * s;
     const double vv = (w.a10 * px + w.cy + w.b1 * iz) * s;
     if (!(uu >= 0.0 && vv >= 0.0 && uu <= w.width && vv <= w.height)) continue;
-    if (model && w.seen != nullptr) {
-      const int sx = std::min(static_cast<int>(uu), w.seen_width - 1);
-      const int sy = std::min(static_cast<int>(vv), w.seen_height - 1);
-      const float seen = w.seen[static_cast<long>(sy) * w.seen_width + sx];
-      if (!seen_by_real(static_cast<float>(iz * s), seen)) continue;
-    }
     u[x] = static_cast<float>(uu);
     v[x] = static_cast<float>(vv);
     a[x] = w.weight;
+    if (model && w.seen != nullptr) real_iz[x] = static_cast<float>(iz * s);
+  }
+}
+
+void seen_test_row(const DepthRow& w, int x_begin, int x_end, const float* u, const float* v,
+                   const float* real_iz, float* a) {
+  for (int x = x_begin; x < x_end; ++x) {
+    if (!(real_iz[x] > 0.0f)) continue;
+    const int sx = std::min(static_cast<int>(u[x]), w.seen_width - 1);
+    const int sy = std::min(static_cast<int>(v[x]), w.seen_height - 1);
+    if (!seen_by_real(real_iz[x], w.seen[static_cast<long>(sy) * w.seen_width + sx])) a[x] = 0.0f;
   }
 }
 

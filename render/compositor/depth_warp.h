@@ -53,9 +53,17 @@ struct DepthRow {
 };
 
 /// For x in [0, n): u[x], v[x] the real pixel and a[x] = weight where the point is in front of
-/// both cameras (1 / z_eye in (0, 1/near], h2 > 0), q inside [0, width] x [0, height] and the
-/// point seen by the real camera; u = v = a = 0 elsewhere. `eye_iz` is the row of the eye's
+/// both cameras (1 / z_eye in (0, 1/near], h2 > 0) and q inside [0, width] x [0, height];
+/// u = v = a = 0 elsewhere. real_iz[x] = the model point's 1 / z_real where the seen test is
+/// still due (a > 0 on a model surface, w.seen set), else 0. `eye_iz` is the row of the eye's
 /// model depth (1 / z_eye, 0 = nothing).
-void depth_warp_row(const DepthRow& w, int n, const float* eye_iz, float* u, float* v, float* a);
+void depth_warp_row(const DepthRow& w, int n, const float* eye_iz, float* u, float* v, float* a,
+                    float* real_iz);
+/// The seen test of pixels [x_begin, x_end) of a row depth_warp_row computed: a[x] = 0 where the
+/// real camera did not see the point. Separate so that the caller can run it in the same tiles
+/// as its video sampling: the seen map is read where the frame is, which a turned warp walks
+/// across many rows (and pages) within one eye row.
+void seen_test_row(const DepthRow& w, int x_begin, int x_end, const float* u, const float* v,
+                   const float* real_iz, float* a);
 
 }  // namespace hd::render
