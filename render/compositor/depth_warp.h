@@ -59,6 +59,10 @@ struct DepthRow {
 /// model depth (1 / z_eye, 0 = nothing).
 void depth_warp_row(const DepthRow& w, int n, const float* eye_iz, float* u, float* v, float* a,
                     float* real_iz);
+/// The same bits one pixel at a time: the reference depth_warp_row's AVX loop (four doubles per
+/// vector, no FMA: the same IEEE operations; used where the CPU has no AVX) is tested against.
+void depth_warp_row_scalar(const DepthRow& w, int n, const float* eye_iz, float* u, float* v,
+                           float* a, float* real_iz);
 /// The seen test of pixels [x_begin, x_end) of a row depth_warp_row computed: a[x] = 0 where the
 /// real camera did not see the point. Separate so that the caller can run it in the same tiles
 /// as its video sampling: the seen map is read where the frame is, which a turned warp walks
