@@ -254,6 +254,21 @@ void GlCompositor::upload_video(const CompositeRequest& req) {
   have_upload_ = true;
 }
 
+void GlCompositor::draw_meshes(const Eigen::Matrix4f& world_to_clip) {
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glUseProgram(mesh_program_.get());
+  glUniformMatrix4fv(u_world_to_clip_, 1, GL_FALSE, world_to_clip.data());
+  glActiveTexture(GL_TEXTURE0);
+  for (const GpuMesh& g : meshes_) {
+    glBindTexture(GL_TEXTURE_2D, g.texture.get());
+    glBindVertexArray(g.vao.get());
+    glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+  glDisable(GL_DEPTH_TEST);
+}
+
 void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   if (!request_drawable(req, out)) {
     ++stats_.requests_rejected;
@@ -294,20 +309,8 @@ void GlCompositor::draw(const CompositeRequest& req, ImageRgba8& out) {
   glClearBufferfv(GL_COLOR, 0, background);
   glClearBufferfv(GL_COLOR, 1, no_surface);
   glClearBufferfv(GL_DEPTH, 0, &far_depth);
-  if (!meshes_.empty()) {
-    const Eigen::Matrix4f M = gl::world_to_clip(req.eye, req.T_world_eye, req.near_m, req.far_m);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glUseProgram(mesh_program_.get());
-    glUniformMatrix4fv(u_world_to_clip_, 1, GL_FALSE, M.data());
-    glActiveTexture(GL_TEXTURE0);
-    for (const GpuMesh& g : meshes_) {
-      glBindTexture(GL_TEXTURE_2D, g.texture.get());
-      glBindVertexArray(g.vao.get());
-      glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
-    }
-    glDisable(GL_DEPTH_TEST);
-  }
+  if (!meshes_.empty())
+    draw_meshes(gl::world_to_clip(req.eye, req.T_world_eye, req.near_m, req.far_m));
 
   // Pass 2: video, blend and marks, into the final target.
   glBindFramebuffer(GL_FRAMEBUFFER, final_fbo_.get());

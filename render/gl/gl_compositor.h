@@ -4,6 +4,7 @@
 // (the overlay pass), gl_compositor_lens.cpp (the lens pass) and gl_compositor_depth.cpp (the
 // model seen from the real camera, for the model-depth view); programs via gl_program.h.
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -92,6 +93,8 @@ class GlCompositor final : public Compositor {
   void ensure_targets(int width, int height);
   void upload_scene(const SyntheticScene& scene);
   void upload_video(const CompositeRequest& req);
+  /// Every mesh, depth-tested, with the mesh program into the bound framebuffer.
+  void draw_meshes(const Eigen::Matrix4f& world_to_clip);
 
   std::unique_ptr<gl::Window> window_;  // first member: the context outlives every GL object
   CompositorStats stats_;

@@ -44,19 +44,7 @@ void GlCompositor::draw_camera_depth(const CompositeRequest& req, const Syntheti
   const GLfloat far_depth = 1.0f;
   glClearBufferfv(GL_COLOR, 1, no_surface);
   glClearBufferfv(GL_DEPTH, 0, &far_depth);
-  const Eigen::Matrix4f M = gl::world_to_clip(c, req.T_world_real, req.near_m, req.far_m);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glUseProgram(mesh_program_.get());
-  glUniformMatrix4fv(u_world_to_clip_, 1, GL_FALSE, M.data());
-  glActiveTexture(GL_TEXTURE0);
-  for (const GpuMesh& g : meshes_) {
-    glBindTexture(GL_TEXTURE_2D, g.texture.get());
-    glBindVertexArray(g.vao.get());
-    glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
-  }
-  glBindVertexArray(0);
-  glDisable(GL_DEPTH_TEST);
+  draw_meshes(gl::world_to_clip(c, req.T_world_real, req.near_m, req.far_m));
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   camera_depth_key_ = key;
   have_camera_depth_ = true;

@@ -58,17 +58,7 @@ SyntheticScene darkened(SyntheticScene s) {
 
 // The scene alone (no video, no marking) seen by `eye` at T_world_eye: the exact picture.
 ImageRgba8 draw_at(const SyntheticScene& scene, const Pinhole& eye, const Pose& T_world_eye) {
-  CpuCompositor comp;
-  ImageRgba8 out;
-  out.allocate(eye.width, eye.height);
-  CompositeRequest req;
-  req.scene = &scene;
-  req.eye = eye;
-  req.T_world_eye = T_world_eye;
-  req.marking.style = MarkingStyle::kNone;
-  req.viewport = {0, 0, eye.width, eye.height};
-  comp.draw(req, out);
-  return out;
+  return draw_model(scene, eye, 0.05, T_world_eye);
 }
 
 Frame as_frame(const ImageRgba8& img) {

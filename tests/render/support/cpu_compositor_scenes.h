@@ -29,14 +29,15 @@ inline Pinhole pinhole(double f, int w, int h) {
 }
 
 // The model alone as the eye sees it (no video, no marking), at the eye's size.
-inline ImageRgba8 draw_model(const SyntheticScene& scene, const Pinhole& eye,
-                             double near_m = 0.05) {
+inline ImageRgba8 draw_model(const SyntheticScene& scene, const Pinhole& eye, double near_m = 0.05,
+                             const Pose& T_world_eye = Pose::identity()) {
   CpuCompositor comp;
   ImageRgba8 out;
   out.allocate(eye.width, eye.height);
   CompositeRequest req;
   req.scene = &scene;
   req.eye = eye;
+  req.T_world_eye = T_world_eye;
   req.near_m = near_m;
   req.marking.style = MarkingStyle::kNone;
   req.viewport = {0, 0, eye.width, eye.height};
