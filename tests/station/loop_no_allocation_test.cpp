@@ -36,7 +36,8 @@ class CountingWork final : public render::FrameWork {
   render::FrameWork& inner_;
 };
 
-TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
+// 300 ticks of a station with one mock camera whose video is laid as `view` says.
+void three_hundred_ticks(core::VideoView view) {
   drivers::MockCamera camera(test::small_camera_config());
   // Head sways 20 cm sideways around the camera position: video, hybrid and synthetic all occur.
   drivers::MockPoseSource pose(test::head_config(test::head_motion(
@@ -47,7 +48,7 @@ TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
   const StationFrameConfig cfg =
       test::small_station_config(400);  // m swings ~3..36 with this motion
   const drivers::CalibratedCamera cams[] = {
-      {&camera, test::small_camera_intrinsics(), core::Pose::identity(), 2.0}};
+      {&camera, test::small_camera_intrinsics(), core::Pose::identity(), 2.0, 0.0, view}};
   const render::SyntheticScene scene = test::checker_quad_scene();
   KalmanPredictor predictor;
   render::CpuCompositor compositor(1);
@@ -91,6 +92,23 @@ TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
   }
   EXPECT_GT(video, 0);
   EXPECT_GT(synthetic, 0);
+  // Model-depth really ran: its depth map of the (unchanging) model was drawn once.
+  EXPECT_EQ(compositor.stats().camera_depth_renders,
+            view == core::VideoView::kModelDepth ? 1u : 0u);
+}
+
+TEST(LoopNoAllocation, ThreeHundredStationTicksAllocateNothingAfterWarmUp) {
+  three_hundred_ticks(core::VideoView::kPlane);
+}
+
+// The other video views add per-frame work to the tick (the fitted plane's median, the
+// model-depth rows and seen test): none of it allocates either.
+TEST(LoopNoAllocation, FittedPlaneTicksAllocateNothingAfterWarmUp) {
+  three_hundred_ticks(core::VideoView::kFittedPlane);
+}
+
+TEST(LoopNoAllocation, ModelDepthTicksAllocateNothingAfterWarmUp) {
+  three_hundred_ticks(core::VideoView::kModelDepth);
 }
 
 // The same station reading an undistorting camera pipeline and drawing the delayed model that a
